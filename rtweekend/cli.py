@@ -1,0 +1,131 @@
+"""The `rtweekend` command: a thin layer over the Python API.
+
+    rtweekend render [SCENE] [-o OUT] [--spp N | --time S] [--width W] ...
+    rtweekend scenes
+
+Bad input is reported in one line on stderr with exit status 2.
+"""
+import argparse
+import sys
+from pathlib import Path
+
+from .errors import SceneError
+
+DEFAULT_SCENE = "cornell_glass"
+EXIT_BAD_INPUT = 2
+EXIT_INTERRUPTED = 130
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):
+        # One line, no usage dump: the same standard as every other bad input.
+        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see --help)\n")
+
+
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got '{text}'") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be >= 1, got {value}")
+    return value
+
+
+def _seed(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got '{text}'") from None
+    if not 0 <= value < 2**63:
+        raise argparse.ArgumentTypeError(f"must be in [0, 2**63), got {value}")
+    return value
+
+
+def _seconds(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected seconds, got '{text}'") from None
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
+
+
+def build_parser():
+    parser = _Parser(prog="rtweekend",
+                     description="Path-trace the Ray Tracing in One Weekend scenes.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+    r = sub.add_parser("render", help="render a scene to an image",
+                       description="Render a scene file or a bundled scene.")
+    r.add_argument("scene", nargs="?", default=DEFAULT_SCENE,
+                   help=f"a .toml file or a bundled scene name (default: {DEFAULT_SCENE})")
+    r.add_argument("-o", "--output", help="output image: .png (tone-mapped), .npy or "
+                   ".exr (linear float32); default: SCENE.png")
+    budget = r.add_mutually_exclusive_group()
+    budget.add_argument("--spp", type=_positive_int, help="samples per pixel "
+                        "(default: the scene's)")
+    budget.add_argument("--time", type=_seconds, metavar="SECONDS",
+                        help="render passes until this many seconds are spent")
+    r.add_argument("--width", type=_positive_int, help="image width (default: the scene's)")
+    r.add_argument("--height", type=_positive_int, help="image height (default: the scene's)")
+    r.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
+    r.add_argument("--max-depth", type=_positive_int, help="ray segments per path "
+                   "(default: the scene's, 50 in the books)")
+    r.add_argument("--threads", type=_positive_int, help="worker threads (default: all)")
+    r.add_argument("--sampling", choices=("mixture", "cosine", "light"), default="mixture",
+                   help="diffuse sampling: the books' 0.5/0.5 mixture (default), cosine "
+                   "only, or lights only")
+    r.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
+    sub.add_parser("scenes", help="list the bundled scenes",
+                   description="List the bundled scenes with a line about each.")
+    return parser
+
+
+def main(argv=None):
+    args = build_parser().parse_args(argv)
+    try:
+        if args.command == "scenes":
+            return _scenes()
+        return _render(args)
+    except SceneError as e:
+        print(f"rtweekend: error: {e}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+
+
+def _scenes():
+    from .scenefile import bundled_scenes
+    scenes = bundled_scenes()
+    width = max(map(len, scenes))
+    for name, description in scenes.items():
+        print(f"{name:<{width}}  {description}")
+    return 0
+
+
+def _render(args):
+    from .image import check_output_path, save_image
+    from .render import render
+    from .scenefile import load_scene
+
+    scene = load_scene(args.scene)
+    output = Path(args.output) if args.output else Path(f"{scene.name}.png")
+    check_output_path(output)            # before spending minutes on the render
+    result = render(scene, spp=args.spp, time=args.time, seed=args.seed,
+                    width=args.width, height=args.height, max_depth=args.max_depth,
+                    threads=args.threads, sampling=args.sampling,
+                    progress=not args.quiet)
+    image, stats = result
+    try:
+        save_image(image, output)
+    except OSError as e:
+        raise SceneError(f"{output}: cannot write: {e.strerror or e}") from None
+    print(f"{output}: {stats.summary()}")
+    if stats.interrupted:
+        print(f"rtweekend: interrupted; {output} holds the {stats.spp} spp rendered",
+              file=sys.stderr)
+        return EXIT_INTERRUPTED
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

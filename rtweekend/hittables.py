@@ -1,0 +1,126 @@
+"""Ray-object intersection over the flat object arrays.
+
+Layout (see scene.py for how objects get here):
+  obj_i[k] = (kind, material)
+  obj_f[k] = SPHERE: center(0:3), radius(3, signed), radius^2(4)
+             RECT:   corner Q(0:3), edges u(3:6), v(6:9), unit normal n(9:12),
+                     plane offset D = n.Q (12), u/|u|^2 (13:16), v/|v|^2 (16:19),
+                     area (19)
+A RECT is any rectangle: the books' xy/xz/yz rects, the six faces of a box and
+rotated rects are all stored this way, rotate_y + translate already applied.
+Its outward normal is unit(u x v); flip_face swaps u and v.  A sphere's outward
+normal is (p - center) / radius, so a negative radius (the hollow bubble) or
+flip_face turns it inward.
+
+Self-intersection is avoided without an epsilon: a ray remembers the object it
+leaves.  A rect can never be hit again by a ray leaving it, and a sphere only
+at its far root when the ray enters it.  This is exact at every scale, so there
+is no t_min to tune (the books' 0.001 breaks for scenes 1000x smaller).
+"""
+import math
+
+from .jit import jit
+from .tags import NO_HIT, OBJ_KIND, SPHERE
+from .vec3 import dot, madd, sub
+
+INF = math.inf
+OBJ_FLOATS = 20   # a RECT's row; a SPHERE uses the first 5
+
+
+@jit
+def sphere_t(obj_f, k, o, d, t_max, far_only):
+    """Nearest root in (0, t_max) of |o + t d - c| = |r| for unit d, else inf."""
+    oc = (o[0] - obj_f[k, 0], o[1] - obj_f[k, 1], o[2] - obj_f[k, 2])
+    half_b = dot(oc, d)
+    c = dot(oc, oc) - obj_f[k, 4]
+    disc = half_b * half_b - c
+    if disc < 0.0:
+        return INF
+    sq = math.sqrt(disc)
+    if not far_only:
+        t = -half_b - sq
+        if 0.0 < t < t_max:
+            return t
+    t = -half_b + sq
+    if 0.0 < t < t_max:
+        return t
+    return INF
+
+
+@jit
+def rect_t(obj_f, k, o, d, t_max):
+    """Distance along d to the rectangle, in (0, t_max), else inf.
+
+    A ray parallel to the plane gives t = +-inf or NaN, which fails the range
+    test with no extra branch (error_model='numpy').
+    """
+    n = (obj_f[k, 9], obj_f[k, 10], obj_f[k, 11])
+    t = (obj_f[k, 12] - dot(n, o)) / dot(n, d)
+    if not (0.0 < t < t_max):
+        return INF
+    p = madd(o, d, t)
+    q = (p[0] - obj_f[k, 0], p[1] - obj_f[k, 1], p[2] - obj_f[k, 2])
+    alpha = q[0] * obj_f[k, 13] + q[1] * obj_f[k, 14] + q[2] * obj_f[k, 15]
+    if alpha < 0.0 or alpha > 1.0:
+        return INF
+    beta = q[0] * obj_f[k, 16] + q[1] * obj_f[k, 17] + q[2] * obj_f[k, 18]
+    if beta < 0.0 or beta > 1.0:
+        return INF
+    return t
+
+
+@jit
+def object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside):
+    """Distance to object k for a ray leaving object from_obj (NO_HIT: none).
+
+    from_inside: the ray entered from_obj's ball (only meaningful for spheres).
+    """
+    if obj_i[k, OBJ_KIND] == SPHERE:
+        if k == from_obj:
+            if not from_inside:
+                return INF          # leaving a convex surface outward
+            return sphere_t(obj_f, k, o, d, t_max, True)
+        return sphere_t(obj_f, k, o, d, t_max, False)
+    if k == from_obj:
+        return INF                  # a plane is never hit twice
+    return rect_t(obj_f, k, o, d, t_max)
+
+
+@jit
+def closest_hit(obj_i, obj_f, o, d, t_max, from_obj, from_inside):
+    """(object index, t) of the nearest hit, or (NO_HIT, inf)."""
+    best = NO_HIT
+    for k in range(obj_i.shape[0]):
+        t = object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside)
+        if t < t_max:
+            t_max = t
+            best = k
+    return best, t_max
+
+
+@jit
+def outward_normal(obj_i, obj_f, k, p):
+    """Unit normal at p on object k, pointing to its front side."""
+    if obj_i[k, OBJ_KIND] == SPHERE:
+        inv_r = 1.0 / obj_f[k, 3]
+        return ((p[0] - obj_f[k, 0]) * inv_r,
+                (p[1] - obj_f[k, 1]) * inv_r,
+                (p[2] - obj_f[k, 2]) * inv_r)
+    return (obj_f[k, 9], obj_f[k, 10], obj_f[k, 11])
+
+
+@jit
+def enters(obj_i, obj_f, k, p, d):
+    """Does a ray leaving object k at p along d go into its ball?  (spheres only)"""
+    if obj_i[k, OBJ_KIND] != SPHERE:
+        return False
+    c = (obj_f[k, 0], obj_f[k, 1], obj_f[k, 2])
+    return dot(d, sub(p, c)) < 0.0
+
+
+@jit
+def face_normal(d, n_out):
+    """The books' set_face_normal: (front_face, normal facing the ray)."""
+    if dot(d, n_out) < 0.0:
+        return True, n_out
+    return False, (-n_out[0], -n_out[1], -n_out[2])

@@ -1,0 +1,173 @@
+"""A scene: camera, render defaults, objects and lights; frozen into flat arrays.
+
+    scene = Scene(camera=Camera(lookfrom=(278, 278, -800), lookat=(278, 278, 0),
+                                vfov=40, width=600, height=600))
+    scene.add(yz_rect(0, 555, 0, 555, 555, green))
+    scene.add(xz_rect(213, 343, 227, 332, 554, light).flip_face(), light=True)
+
+`arrays()` gives what the kernels read (see hittables.py for the layout).
+"""
+from dataclasses import dataclass, field, replace
+from typing import NamedTuple
+
+import numpy as np
+
+from . import fields
+from .camera import camera_array
+from .errors import FieldError, SceneError
+from .hittables import OBJ_FLOATS
+from .materials import MAT_FLOATS
+from .shapes import Shape, _label, flatten
+from .tags import BG_COLOR, BG_SKY, RECT, SPHERE
+
+SKY = "sky"
+
+
+@dataclass(frozen=True)
+class Camera:
+    """The books' positionable thin-lens camera; defaults are book 1's."""
+    lookfrom: tuple = (0.0, 0.0, 0.0)
+    lookat: tuple = (0.0, 0.0, -1.0)
+    vup: tuple = (0.0, 1.0, 0.0)
+    vfov: float = 90.0                 # vertical, degrees
+    aperture: float = 0.0              # lens diameter; 0 = pinhole
+    focus_dist: float | None = None    # None: |lookfrom - lookat|
+    width: int = 400
+    height: int = 225
+
+    def __post_init__(self):
+        try:
+            self._check()
+        except FieldError as e:
+            raise SceneError(f"camera: {e}") from None
+
+    def _check(self):
+        set_ = object.__setattr__          # normalise the frozen fields once
+        for name in ("lookfrom", "lookat", "vup"):
+            set_(self, name, fields.vec3(getattr(self, name), name))
+        set_(self, "vfov", fields.number(self.vfov, "vfov", lo=0.0, hi=180.0,
+                                         lo_open=True, hi_open=True))
+        set_(self, "aperture", fields.number(self.aperture, "aperture", lo=0.0))
+        set_(self, "width", fields.integer(self.width, "width"))
+        set_(self, "height", fields.integer(self.height, "height"))
+        view = np.subtract(self.lookat, self.lookfrom)
+        dist = float(np.linalg.norm(view))
+        if dist == 0.0:
+            raise FieldError("lookat", "equals lookfrom: the view direction is undefined")
+        up = np.asarray(self.vup)
+        if np.linalg.norm(np.cross(up, view)) <= 1e-12 * dist * np.linalg.norm(up):
+            raise FieldError("vup", f"{list(self.vup)} is parallel to the view direction")
+        if self.focus_dist is None:
+            set_(self, "focus_dist", dist)
+        set_(self, "focus_dist", fields.number(self.focus_dist, "focus_dist",
+                                               lo=0.0, lo_open=True))
+
+    def array(self):
+        return camera_array(self.lookfrom, self.lookat, self.vup, self.vfov,
+                            self.aperture, self.focus_dist, self.width, self.height)
+
+
+class SceneArrays(NamedTuple):
+    """What the path-tracing kernel reads; plain arrays, picklable."""
+    obj_i: np.ndarray      # int64 [N, 2]: kind, material
+    obj_f: np.ndarray      # float64 [N, OBJ_FLOATS]
+    mat_i: np.ndarray      # int64 [M]: kind
+    mat_f: np.ndarray      # float64 [M, 4]: colour, parameter
+    lights: np.ndarray     # int64 [L]: object indices the light pdf samples
+    bg_kind: int
+    bg: tuple
+
+
+@dataclass(eq=False)
+class Scene:
+    camera: Camera = field(default_factory=Camera)
+    objects: list = field(default_factory=list)
+    lights: list = field(default_factory=list)
+    background: object = (0.0, 0.0, 0.0)   # an RGB radiance, or "sky"
+    spp: int = 100
+    max_depth: int = 50
+    description: str = ""
+    name: str = "scene"
+
+    def add(self, shape, light=False):
+        """Add a shape (and, with light=True, to the lights the pdf samples)."""
+        if not isinstance(shape, Shape):
+            raise SceneError(f"add: expected a shape, got {type(shape).__name__}")
+        self.objects.append(shape)
+        if light:
+            self.add_light(shape)
+        return shape
+
+    def add_light(self, shape):
+        if shape.kind == "box":
+            raise SceneError(f"lights: {_label(shape.kind, shape.name)} is a box; "
+                             "the light pdf samples rects and spheres only")
+        self.lights.append(shape)
+        return shape
+
+    def with_camera(self, **changes):
+        """A copy whose camera has some fields replaced (e.g. width, height)."""
+        return replace(self, camera=replace(self.camera, **changes))
+
+    def check(self):
+        """Validate the whole scene; raises SceneError."""
+        try:
+            fields.integer(self.spp, "spp")
+            fields.integer(self.max_depth, "max_depth")
+            background_radiance(self.background)
+        except FieldError as e:
+            raise SceneError(f"render: {e}") from None
+        for shape in self.lights:
+            if not any(shape is s for s in self.objects):
+                raise SceneError(f"lights: {_label(shape.kind, shape.name)} "
+                                 "is not among the scene's objects")
+        if not self.objects:
+            raise SceneError("objects: the scene has no objects")
+
+    def arrays(self):
+        """Freeze the scene into the flat arrays the kernels read."""
+        self.check()
+        materials, mat_index = [], {}
+        obj_i, obj_f, first = [], [], {}
+        for shape in self.objects:
+            m = mat_index.setdefault(id(shape.material), len(materials))
+            if m == len(materials):
+                materials.append(shape.material)
+            first[id(shape)] = len(obj_i)
+            for kind, geom in flatten(shape):
+                row = np.zeros(OBJ_FLOATS)
+                if kind == "sphere":
+                    center, radius = geom
+                    row[0:3], row[3], row[4] = center, radius, radius * radius
+                    obj_i.append((SPHERE, m))
+                else:
+                    row[:] = rect_row(*geom)
+                    obj_i.append((RECT, m))
+                obj_f.append(row)
+        mat_i = np.array([mt.kind for mt in materials], dtype=np.int64)
+        mat_f = np.array([(*mt.color, mt.param) for mt in materials], dtype=np.float64)
+        lights = np.array([first[id(s)] for s in self.lights], dtype=np.int64)
+        bg_kind, bg = background_radiance(self.background)
+        return SceneArrays(np.array(obj_i, dtype=np.int64).reshape(-1, 2),
+                           np.array(obj_f, dtype=np.float64).reshape(-1, OBJ_FLOATS),
+                           mat_i, mat_f.reshape(-1, MAT_FLOATS), lights, bg_kind, bg)
+
+
+def rect_row(q, u, v):
+    """The RECT row of obj_f: corner, edges, unit normal, plane offset,
+    the dual edges u/|u|^2 and v/|v|^2 (u and v are perpendicular), area."""
+    q, u, v = (np.asarray(a, dtype=np.float64) for a in (q, u, v))
+    n = np.cross(u, v)
+    area = float(np.linalg.norm(n))
+    n = n / area
+    return np.concatenate([q, u, v, n, [n @ q], u / (u @ u), v / (v @ v), [area]])
+
+
+def background_radiance(value):
+    """(kind, rgb) for a background given as an RGB triple or "sky"."""
+    if isinstance(value, str):
+        if value != SKY:
+            raise FieldError("background", f'expected [r, g, b] or "sky", got "{value}"')
+        return BG_SKY, (0.0, 0.0, 0.0)
+    return BG_COLOR, fields.color(value, "background")
+

@@ -1,0 +1,224 @@
+"""Scene files: TOML (stdlib tomllib) -> Scene, with one-line errors.
+
+Every error names the file, the object and the field, e.g.
+    scenes/x.toml: objects[3] (sphere 'ball'): radius: must not be 0
+The format is documented in docs/scenes.md.
+"""
+import difflib
+import inspect
+import tomllib
+from importlib import resources
+from pathlib import Path
+
+from . import fields
+from .errors import FieldError, SceneError
+from .scene import Camera, Scene, background_radiance
+from .shapes import MATERIALS, SHAPES, _label
+
+TOP_KEYS = ("description", "lights", "camera", "render", "materials", "objects")
+CAMERA_KEYS = ("lookfrom", "lookat", "vup", "vfov", "aperture", "focus_dist",
+               "width", "height")
+RENDER_KEYS = ("spp", "max_depth", "background")
+PLACEMENT_KEYS = ("rotate_y", "translate", "flip_face")
+OBJECT_KEYS = ("type", "name", "material") + PLACEMENT_KEYS
+
+
+def bundled_dir():
+    """The bundled scenes: the package rtweekend.scenes once installed; the
+    top-level scenes/ folder when running from a source checkout."""
+    try:
+        return resources.files("rtweekend.scenes")
+    except ModuleNotFoundError:
+        return Path(__file__).resolve().parent.parent / "scenes"
+
+
+def bundled_scenes():
+    """{name: description} of the scenes shipped with rtweekend."""
+    out = {}
+    for entry in sorted(bundled_dir().iterdir(), key=lambda e: e.name):
+        if entry.name.endswith(".toml"):
+            doc = tomllib.loads(entry.read_text(encoding="utf-8"))
+            out[entry.name[:-5]] = doc.get("description", "")
+    return out
+
+
+def resolve(name_or_path):
+    """A bundled scene's name or a file path -> (display path, text)."""
+    path = Path(name_or_path)
+    if path.suffix == ".toml" or path.exists() or len(path.parts) > 1:
+        try:
+            return str(path), path.read_text(encoding="utf-8")
+        except FileNotFoundError:
+            raise SceneError(f"{path}: no such scene file") from None
+        except (OSError, UnicodeDecodeError) as e:
+            raise SceneError(f"{path}: cannot read: {e}") from None
+    entry = bundled_dir() / f"{name_or_path}.toml"
+    if not entry.is_file():
+        known = ", ".join(bundled_scenes())
+        raise SceneError(f"unknown scene '{name_or_path}': not a file and not one of "
+                         f"the bundled scenes ({known})")
+    return f"{name_or_path}.toml", entry.read_text(encoding="utf-8")
+
+
+def load_scene(name_or_path):
+    """Load a scene file (or a bundled scene by name) into a Scene."""
+    where, source = resolve(name_or_path)
+    try:
+        doc = tomllib.loads(source)
+    except tomllib.TOMLDecodeError as e:
+        raise SceneError(f"{where}: TOML syntax error: {e}") from None
+    return _Loader(where).scene(doc, name=Path(where).stem)
+
+
+def _unknown(key, allowed):
+    close = difflib.get_close_matches(key, allowed, n=1)
+    hint = f" (did you mean '{close[0]}'?)" if close else ""
+    return f"unknown field '{key}'{hint}; expected one of: {', '.join(allowed)}"
+
+
+class _Loader:
+    def __init__(self, where):
+        self.where = where
+
+    def fail(self, what, message):
+        prefix = f"{self.where}: {what}: " if what else f"{self.where}: "
+        return SceneError(prefix + message)
+
+    def table(self, value, what):
+        if not isinstance(value, dict):
+            raise self.fail(what, f"expected a table, got {type(value).__name__}")
+        return value
+
+    def check_keys(self, table, allowed, what):
+        for key in table:
+            if key not in allowed:
+                raise self.fail(what, _unknown(key, allowed))
+
+    def scene(self, doc, name):
+        self.check_keys(doc, TOP_KEYS, "")
+        scene = Scene(name=name)
+        try:
+            scene.description = fields.text(doc.get("description", ""), "description")
+        except FieldError as e:
+            raise self.fail("", str(e)) from None
+        scene.camera = self.camera(self.table(doc.get("camera", {}), "camera"))
+        self.render_defaults(self.table(doc.get("render", {}), "render"), scene)
+        materials = self.materials(self.table(doc.get("materials", {}), "materials"))
+        objects = doc.get("objects", [])
+        if not isinstance(objects, list):
+            raise self.fail("objects", "expected an array of tables ([[objects]])")
+        named = {}
+        for i, spec in enumerate(objects):
+            shape = self.shape(spec, i, materials)
+            if shape.name is not None:
+                if shape.name in named:
+                    raise self.fail(f"objects[{i}]",
+                                    f"name: '{shape.name}' is already used by another object")
+                named[shape.name] = shape
+            scene.add(shape)
+        self.lights(doc.get("lights", []), named, scene)
+        if not scene.objects:
+            raise self.fail("objects", "the scene has no objects")
+        return scene
+
+    def camera(self, table):
+        self.check_keys(table, CAMERA_KEYS, "camera")
+        try:
+            return Camera(**table)
+        except SceneError as e:
+            raise SceneError(f"{self.where}: {e}") from None
+
+    def render_defaults(self, table, scene):
+        self.check_keys(table, RENDER_KEYS, "render")
+        try:
+            scene.spp = fields.integer(table.get("spp", scene.spp), "spp")
+            scene.max_depth = fields.integer(table.get("max_depth", scene.max_depth),
+                                             "max_depth")
+            scene.background = table.get("background", scene.background)
+            background_radiance(scene.background)
+        except FieldError as e:
+            raise self.fail("render", str(e)) from None
+
+    def material(self, spec, what, name=None):
+        spec = self.table(spec, what)
+        kind = spec.get("type")
+        if kind not in MATERIALS:
+            hint = f"'{kind}' is not a material type" if kind is not None else "missing"
+            raise self.fail(what, f"type: {hint}; expected one of: {', '.join(MATERIALS)}")
+        return self.call(MATERIALS[kind], {k: v for k, v in spec.items() if k != "type"},
+                         ("type",), f"{what} ({kind})", name=name)
+
+    def materials(self, table):
+        out = {}
+        for name, spec in table.items():
+            out[name] = self.material(spec, f"materials.{name}", name)
+        return out
+
+    def call(self, builder, args, extra_keys, what, name=None):
+        """Call builder.raw with the table's fields, checking names first."""
+        params = [p for p in inspect.signature(builder.raw).parameters.values()
+                  if p.kind is not inspect.Parameter.VAR_KEYWORD]
+        allowed = [p.name for p in params if p.name != "name"]
+        for key in args:
+            if key not in allowed:
+                raise self.fail(what, _unknown(key, list(extra_keys) + allowed))
+        for p in params:
+            if p.name != "name" and p.default is inspect.Parameter.empty \
+                    and p.name not in args:
+                raise self.fail(what, f"{p.name}: missing (required)")
+        try:
+            return builder.raw(**args, name=name)
+        except FieldError as e:
+            raise self.fail(what, str(e)) from None
+
+    def shape(self, spec, i, materials):
+        what = f"objects[{i}]"
+        spec = self.table(spec, what)
+        kind = spec.get("type")
+        name = spec.get("name")
+        if name is not None and not isinstance(name, str):
+            raise self.fail(what, f"name: expected a string, got {name!r}")
+        if kind not in SHAPES:
+            hint = f"'{kind}' is not an object type" if kind is not None else "missing"
+            raise self.fail(what, f"type: {hint}; expected one of: {', '.join(SHAPES)}")
+        what = f"{what} ({_label(kind, name)})"
+        if "material" not in spec:
+            raise self.fail(what, "material: missing (required)")
+        mat = spec["material"]
+        if isinstance(mat, str):
+            if mat not in materials:
+                close = difflib.get_close_matches(mat, list(materials), n=1)
+                hint = f" (did you mean '{close[0]}'?)" if close else ""
+                raise self.fail(what, f"material: no material named '{mat}'{hint}")
+            mat = materials[mat]
+        else:
+            mat = self.material(mat, f"{what} material")
+        args = {k: v for k, v in spec.items() if k not in OBJECT_KEYS}
+        shape = self.call(SHAPES[kind], {**args, "material": mat}, OBJECT_KEYS, what,
+                          name=name)
+        try:
+            if "rotate_y" in spec:
+                shape = shape.rotate_y(fields.number(spec["rotate_y"], "rotate_y"))
+            if "translate" in spec:
+                shape = shape.translate(fields.vec3(spec["translate"], "translate"))
+            if fields.boolean(spec.get("flip_face", False), "flip_face"):
+                shape = shape.flip_face()
+        except FieldError as e:
+            raise self.fail(what, str(e)) from None
+        return shape
+
+    def lights(self, names, named, scene):
+        if not isinstance(names, list):
+            raise self.fail("lights", "expected an array of object names")
+        for j, name in enumerate(names):
+            if not isinstance(name, str):
+                raise self.fail(f"lights[{j}]", f"expected an object name, got {name!r}")
+            if name not in named:
+                close = difflib.get_close_matches(name, list(named), n=1)
+                hint = f" (did you mean '{close[0]}'?)" if close else ""
+                raise self.fail(f"lights[{j}]", f"no object named '{name}'{hint}")
+            shape = named[name]
+            if shape.kind == "box":
+                raise self.fail(f"lights[{j}]", f"'{name}' is a box; the light pdf "
+                                "samples rects and spheres only")
+            scene.add_light(shape)

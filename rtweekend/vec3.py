@@ -1,0 +1,103 @@
+"""vec3 as a 3-tuple of floats: the books' vector algebra, allocation-free.
+
+Tuples live in registers inside Numba kernels, so none of these allocate.
+"""
+import math
+
+from .jit import jit
+
+
+@jit
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+@jit
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+@jit
+def mul(a, b):
+    """Component-wise product (colour x colour)."""
+    return (a[0] * b[0], a[1] * b[1], a[2] * b[2])
+
+
+@jit
+def scale(a, s):
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+@jit
+def madd(a, b, s):
+    """a + s*b: a point moved along a direction."""
+    return (a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2])
+
+
+@jit
+def neg(a):
+    return (-a[0], -a[1], -a[2])
+
+
+@jit
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@jit
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0])
+
+
+@jit
+def length(a):
+    return math.sqrt(dot(a, a))
+
+
+@jit
+def unit(a):
+    return scale(a, 1.0 / length(a))
+
+
+@jit
+def reflect(v, n):
+    """Mirror v about the plane with unit normal n: v - 2(v.n)n."""
+    return madd(v, n, -2.0 * dot(v, n))
+
+
+@jit
+def refract(uv, n, etai_over_etat):
+    """Snell's law for a unit direction uv against the unit normal n facing it.
+
+    The caller guarantees that refraction is possible (no total internal
+    reflection); the max() guards the sqrt against rounding at grazing angles.
+    """
+    cos_theta = min(-dot(uv, n), 1.0)
+    r_perp = scale(madd(uv, n, cos_theta), etai_over_etat)
+    k = max(0.0, 1.0 - dot(r_perp, r_perp))
+    return madd(r_perp, n, -math.sqrt(k))
+
+
+@jit
+def onb(w):
+    """Two unit vectors (u, v) completing the unit vector w to a right-handed basis.
+
+    Branch-light construction of Duff et al. (JCGT 2017), so no normalisation
+    and no 'pick an axis' test.
+    """
+    sign = math.copysign(1.0, w[2])
+    a = -1.0 / (sign + w[2])
+    b = w[0] * w[1] * a
+    u = (1.0 + sign * w[0] * w[0] * a, sign * b, -sign * w[0])
+    v = (b, sign + w[1] * w[1] * a, -w[1])
+    return u, v
+
+
+@jit
+def local(u, v, w, a):
+    """The vector with coordinates a in the basis (u, v, w)."""
+    return (a[0] * u[0] + a[1] * v[0] + a[2] * w[0],
+            a[0] * u[1] + a[1] * v[1] + a[2] * w[1],
+            a[0] * u[2] + a[1] * v[2] + a[2] * w[2])

@@ -1,0 +1,96 @@
+"""The rtweekend command, run as users run it: in a subprocess."""
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import imageio.v3 as iio
+import numpy as np
+import pytest
+
+import rtweekend as rt
+
+CMD = [sys.executable, "-m", "rtweekend"]
+
+
+def run(*args, cwd=None):
+    return subprocess.run(CMD + list(args), capture_output=True, text=True, cwd=cwd,
+                          timeout=300)
+
+
+def test_render_writes_the_png_and_a_summary(tmp_path):
+    out = tmp_path / "box.png"
+    r = run("render", "cornell_box", "-o", str(out), "--spp", "2", "--width", "24",
+            "--height", "16", "--seed", "3", "--max-depth", "5", "--threads", "1")
+    assert r.returncode == 0, r.stderr
+    assert iio.imread(out).shape == (16, 24, 3)
+    last = r.stdout.strip().splitlines()[-1]
+    assert "24x16, 2 spp" in last and "samples/s" in last and "rays/s" in last
+    assert "0 NaN/Inf samples dropped" in last
+
+
+def test_cli_image_is_the_api_image(tmp_path):
+    out = tmp_path / "m.npy"
+    r = run("render", "metals", "-o", str(out), "--spp", "3", "--width", "20",
+            "--height", "12", "--seed", "4", "-q")
+    assert r.returncode == 0, r.stderr
+    api, _ = rt.render(rt.load_scene("metals"), spp=3, width=20, height=12, seed=4)
+    assert np.array_equal(np.load(out), api)
+
+
+def test_default_scene_and_output_name(tmp_path):
+    r = run("render", "--spp", "1", "--width", "8", "--height", "8", "-q", cwd=tmp_path)
+    assert r.returncode == 0, r.stderr
+    assert (tmp_path / "cornell_glass.png").exists()
+
+
+def test_scenes_lists_every_bundled_scene():
+    r = run("scenes")
+    assert r.returncode == 0
+    lines = r.stdout.strip().splitlines()
+    for name, description in rt.bundled_scenes().items():
+        assert any(line.startswith(name) and description in line for line in lines)
+
+
+@pytest.mark.parametrize("args, message", [
+    (["render", "no_such_scene"], "bundled scenes (cornell_box, cornell_glass"),
+    (["render", "metals", "--spp", "4", "--time", "2"], "not allowed with"),
+    (["render", "metals", "--spp", "0"], "must be >= 1"),
+    (["render", "metals", "-o", "x.gif2"], "unknown output extension"),
+])
+def test_bad_input_is_one_line_and_exit_2(tmp_path, args, message):
+    r = run(*args, cwd=tmp_path)
+    assert r.returncode == 2
+    assert len(r.stderr.strip().splitlines()) == 1 and message in r.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_ctrl_c_keeps_the_passes_rendered(tmp_path):
+    out = tmp_path / "partial.npy"
+    p = subprocess.Popen(CMD + ["render", "cornell_box", "-o", str(out), "--spp", "100000",
+                                "--width", "64", "--height", "64"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    seen = bytearray()
+
+    def pump():
+        while chunk := p.stderr.read1(256):
+            seen.extend(chunk)
+    reader = threading.Thread(target=pump, daemon=True)
+    reader.start()
+    deadline = time.monotonic() + 120
+    while b"pass 2" not in seen and time.monotonic() < deadline and p.poll() is None:
+        time.sleep(0.05)
+    assert b"pass 2" in seen, seen.decode(errors="replace")
+    p.send_signal(signal.SIGINT)
+    stdout, _ = p.communicate(timeout=120)
+    reader.join(timeout=5)
+    assert p.returncode == 130
+    summary = stdout.decode().strip().splitlines()[-1]
+    assert "interrupted" in summary and "of 100000 spp" in summary
+    spp = int(summary.split("interrupted: ")[1].split(" of")[0])
+    assert 2 <= spp < 100000
+    assert f"holds the {spp} spp rendered" in seen.decode()
+    image = np.load(out)
+    assert image.shape == (64, 64, 3) and np.isfinite(image).all() and image.mean() > 0
+    assert [f.name for f in tmp_path.iterdir()] == ["partial.npy"]
