@@ -108,7 +108,7 @@ def test_box_faces_point_outward():
 
 def _slab(o, d, lo, hi):
     """Reference ray/box intersection in object space: entry t and axis."""
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         t0, t1 = (lo - o) / d, (hi - o) / d
     tn, tf = np.minimum(t0, t1), np.maximum(t0, t1)
     t_enter, t_exit = tn.max(), tf.min()
