@@ -87,14 +87,52 @@ def object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside):
 
 
 @jit
-def closest_hit(obj_i, obj_f, o, d, t_max, from_obj, from_inside):
-    """(object index, t) of the nearest hit, or (NO_HIT, inf)."""
+def _box_entry(bvh_box, i, o, inv_d, t_max):
+    """Does the ray enter box i before t_max?  (slab test, inv_d = 1 / d)"""
+    t0 = (bvh_box[i, 0] - o[0]) * inv_d[0]
+    t1 = (bvh_box[i, 3] - o[0]) * inv_d[0]
+    near, far = min(t0, t1), max(t0, t1)
+    t0 = (bvh_box[i, 1] - o[1]) * inv_d[1]
+    t1 = (bvh_box[i, 4] - o[1]) * inv_d[1]
+    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
+    t0 = (bvh_box[i, 2] - o[2]) * inv_d[2]
+    t1 = (bvh_box[i, 5] - o[2]) * inv_d[2]
+    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
+    return near <= far and far > 0.0 and near < t_max
+
+
+@jit
+def closest_hit(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, o, d, t_max, from_obj,
+                from_inside):
+    """(object index, t) of the nearest hit, or (NO_HIT, inf).
+
+    With an empty BVH every object is tested; otherwise the stackless walk
+    described in bvh.py.
+    """
     best = NO_HIT
-    for k in range(obj_i.shape[0]):
-        t = object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside)
-        if t < t_max:
-            t_max = t
-            best = k
+    if bvh_node.shape[0] == 0:
+        for k in range(obj_i.shape[0]):
+            t = object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside)
+            if t < t_max:
+                t_max = t
+                best = k
+        return best, t_max
+    inv_d = (1.0 / d[0], 1.0 / d[1], 1.0 / d[2])
+    i = 0
+    while i < bvh_node.shape[0]:
+        if _box_entry(bvh_box, i, o, inv_d, t_max):
+            count = bvh_node[i, 1]
+            if count == 0:
+                i += 1                      # inner node: on to its left child
+                continue
+            first = bvh_node[i, 0]
+            for j in range(first, first + count):
+                k = bvh_prims[j]
+                t = object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside)
+                if t < t_max:
+                    t_max = t
+                    best = k
+        i = bvh_node[i, 2]
     return best, t_max
 
 

@@ -25,8 +25,8 @@ def background(bg_kind, bg, d):
 
 
 @jit
-def trace(obj_i, obj_f, mat_i, mat_f, lights, bg_kind, bg, max_depth,
-          light_weight, o, d, state):
+def trace(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i, mat_f, lights, bg_kind, bg,
+          max_depth, light_weight, o, d, state):
     """Radiance along the camera ray (o, d): (r, g, b), segments traced, state."""
     lr, lg, lb = 0.0, 0.0, 0.0           # radiance gathered so far
     tr, tg, tb = 1.0, 1.0, 1.0          # path throughput (the books' attenuation product)
@@ -35,7 +35,8 @@ def trace(obj_i, obj_f, mat_i, mat_f, lights, bg_kind, bg, max_depth,
     n_lights = lights.shape[0]
     segments = 0
     for _ in range(max_depth):
-        k, t = closest_hit(obj_i, obj_f, o, d, INF, from_obj, from_inside)
+        k, t = closest_hit(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, o, d, INF,
+                           from_obj, from_inside)
         segments += 1
         if k == NO_HIT:
             e = background(bg_kind, bg, d)

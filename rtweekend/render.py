@@ -27,8 +27,8 @@ PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
 
 @jit_parallel
 def render_pass(accum, accum2, valid, row_stats, rows, s0, s1, seed, cam, width, height,
-                obj_i, obj_f, mat_i, mat_f, lights, bg_kind, bg, max_depth,
-                light_weight):
+                obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i, mat_f, lights,
+                bg_kind, bg, max_depth, light_weight):
     """Add samples s0..s1-1 of every pixel; rows[k] spreads the work over threads.
 
     accum/accum2 sum each sample's radiance and its square (for the standard
@@ -43,8 +43,9 @@ def render_pass(accum, accum2, valid, row_stats, rows, s0, s1, seed, cam, width,
             for s in range(s0, s1):
                 state = rng.seed_state(pixel, s, seed)
                 o, d, state = get_ray(cam, x, y, width, height, state)
-                c, n, state = trace(obj_i, obj_f, mat_i, mat_f, lights, bg_kind, bg,
-                                    max_depth, light_weight, o, d, state)
+                c, n, state = trace(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i,
+                                    mat_f, lights, bg_kind, bg, max_depth, light_weight,
+                                    o, d, state)
                 segments += n
                 if math.isfinite(c[0] + c[1] + c[2]):
                     accum[y, x, 0] += c[0]
@@ -119,6 +120,12 @@ class RenderResult:
     def __iter__(self):
         return iter((self.image, self.stats))
 
+    def __getitem__(self, i):
+        return (self.image, self.stats)[i]
+
+    def __len__(self):
+        return 2
+
     def __repr__(self):
         return f"RenderResult({self.stats.summary()})"
 
@@ -165,14 +172,15 @@ def _check_options(spp, time, threads, seed, sampling, max_depth):
 
 
 def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
-           max_depth=None, threads=None, sampling="mixture", progress=False):
+           max_depth=None, threads=None, sampling="mixture", progress=False, bvh=None):
     """Path-trace `scene`; returns RenderResult(image, stats).
 
     spp: samples per pixel (default: the scene's); time: render passes until
     this many seconds are spent instead.  sampling: "mixture" (The Rest of Your
     Life, default), "cosine" (The Next Week) or "light" (lights only; misses
     indirect light).  progress: True for a bar on stderr, or a callable
-    progress(spp_done, spp_total_or_None, samples_per_s).
+    progress(spp_done, spp_total_or_None, samples_per_s).  bvh: force the
+    hierarchy on (True) or off (False); by default scenes with many objects use it.
     Ctrl-C finishes the current pass and returns what was rendered
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt.
     """
@@ -182,7 +190,7 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
         scene = scene.with_camera(**cam_changes)
     if spp is None and time is None:
         spp = scene.spp
-    arrays = scene.arrays()
+    arrays = scene.arrays(bvh=bvh)
     cam = scene.camera.array()
     w, h = scene.camera.width, scene.camera.height
     depth = max_depth if max_depth is not None else scene.max_depth
@@ -196,8 +204,9 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
 
     def run(s0, s1):
         render_pass(accum, accum2, valid, row_stats, rows, s0, s1, seed, cam, w, h,
-                    arrays.obj_i, arrays.obj_f, arrays.mat_i, arrays.mat_f,
-                    arrays.lights, arrays.bg_kind, arrays.bg, depth, light_weight)
+                    arrays.obj_i, arrays.obj_f, arrays.bvh_box, arrays.bvh_node,
+                    arrays.bvh_prims, arrays.mat_i, arrays.mat_f, arrays.lights,
+                    arrays.bg_kind, arrays.bg, depth, light_weight)
 
     previous_threads = numba.get_num_threads()
     if threads is not None:

@@ -13,17 +13,24 @@ from rtweekend.tags import NO_HIT
 MAT = rt.lambertian((0.5, 0.5, 0.5))
 
 
-def arrays(*shapes):
+@pytest.fixture(params=[False, True], ids=["linear", "bvh"])
+def bvh(request):
+    """Every intersection test runs with and without the hierarchy."""
+    return request.param
+
+
+def arrays(*shapes, bvh=False):
     scene = rt.Scene()
     for s in shapes:
         scene.add(s)
-    return scene.arrays()
+    return scene.arrays(bvh=bvh)
 
 
 def hit(a, o, d, t_max=INF, from_obj=NO_HIT, from_inside=False):
     d = tuple(np.asarray(d, dtype=float) / np.linalg.norm(d))
     o = tuple(float(c) for c in o)
-    k, t = closest_hit(a.obj_i, a.obj_f, o, d, t_max, from_obj, from_inside)
+    k, t = closest_hit(a.obj_i, a.obj_f, a.bvh_box, a.bvh_node, a.bvh_prims, o, d, t_max,
+                       from_obj, from_inside)
     if k == NO_HIT:
         return None
     p = tuple(np.add(o, np.multiply(t, d)))
@@ -32,8 +39,8 @@ def hit(a, o, d, t_max=INF, from_obj=NO_HIT, from_inside=False):
     return dict(k=k, t=t, p=np.array(p), n_out=np.array(n_out), front=front, n=np.array(n))
 
 
-def test_sphere_from_outside():
-    a = arrays(rt.sphere((0, 0, -5), 2, MAT))
+def test_sphere_from_outside(bvh):
+    a = arrays(rt.sphere((0, 0, -5), 2, MAT), bvh=bvh)
     h = hit(a, (0, 0, 0), (0, 0, -1))
     assert h["t"] == pytest.approx(3.0)
     assert np.allclose(h["p"], (0, 0, -3))
@@ -45,22 +52,22 @@ def test_sphere_from_outside():
     assert np.linalg.norm(h["n_out"]) == pytest.approx(1.0, rel=1e-12)
 
 
-def test_sphere_from_inside_is_back_face():
-    a = arrays(rt.sphere((0, 0, 0), 2, MAT))
+def test_sphere_from_inside_is_back_face(bvh):
+    a = arrays(rt.sphere((0, 0, 0), 2, MAT), bvh=bvh)
     h = hit(a, (0.5, 0, 0), (1, 0, 0))
     assert h["t"] == pytest.approx(1.5)
     assert not h["front"] and np.allclose(h["n"], (-1, 0, 0))
 
 
-def test_negative_radius_turns_the_normal_inward():
-    a = arrays(rt.sphere((0, 0, -5), -2, MAT))
+def test_negative_radius_turns_the_normal_inward(bvh):
+    a = arrays(rt.sphere((0, 0, -5), -2, MAT), bvh=bvh)
     h = hit(a, (0, 0, 0), (0, 0, -1))
     assert h["t"] == pytest.approx(3.0)              # same surface
     assert np.allclose(h["n_out"], (0, 0, -1)) and not h["front"]
 
 
-def test_t_max_and_behind_the_origin():
-    a = arrays(rt.sphere((0, 0, -5), 1, MAT))
+def test_t_max_and_behind_the_origin(bvh):
+    a = arrays(rt.sphere((0, 0, -5), 1, MAT), bvh=bvh)
     assert hit(a, (0, 0, 0), (0, 0, -1), t_max=3.9) is None
     assert hit(a, (0, 0, 0), (0, 0, 1)) is None      # sphere behind the ray
 
@@ -70,15 +77,15 @@ def test_t_max_and_behind_the_origin():
     (lambda: rt.xz_rect(-1, 1, -1, 1, -2, MAT), (0.3, 0, 0.2), (0, -1, 0), 2.0, (0, 1, 0)),
     (lambda: rt.yz_rect(-1, 1, -1, 1, 4, MAT), (0, 0.3, 0.2), (1, 0, 0), 4.0, (1, 0, 0)),
 ])
-def test_axis_rects(make, o, d, t, normal):
-    a = arrays(make())
+def test_axis_rects(make, o, d, t, normal, bvh):
+    a = arrays(make(), bvh=bvh)
     h = hit(a, o, d)
     assert h["t"] == pytest.approx(t)
     assert np.allclose(h["n_out"], normal)          # the book's +axis normal
     assert h["front"] == (np.dot(d, normal) < 0)
     assert np.allclose(h["n"], -np.sign(np.dot(d, normal)) * np.array(normal))
     # flip_face turns the front side around, not the surface
-    hf = hit(arrays(make().flip_face()), o, d)
+    hf = hit(arrays(make().flip_face(), bvh=bvh), o, d)
     assert hf["t"] == pytest.approx(t) and hf["front"] != h["front"]
     assert np.allclose(hf["n"], h["n"])
     # just outside the bounds: a miss
@@ -86,15 +93,15 @@ def test_axis_rects(make, o, d, t, normal):
     assert hit(a, shifted, d) is None
 
 
-def test_rect_edge_is_inclusive_and_parallel_ray_misses():
-    a = arrays(rt.xy_rect(0, 1, 0, 1, 0, MAT))
+def test_rect_edge_is_inclusive_and_parallel_ray_misses(bvh):
+    a = arrays(rt.xy_rect(0, 1, 0, 1, 0, MAT), bvh=bvh)
     assert hit(a, (1.0, 1.0, 1.0), (0, 0, -1)) is not None
     assert hit(a, (0.5, 0.5, 0.0), (1, 0, 0)) is None   # in the plane
     assert hit(a, (0.5, 0.5, 1.0), (1, 0, 0)) is None   # parallel above it
 
 
-def test_box_faces_point_outward():
-    a = arrays(rt.box((0, 0, 0), (1, 2, 3), MAT))
+def test_box_faces_point_outward(bvh):
+    a = arrays(rt.box((0, 0, 0), (1, 2, 3), MAT), bvh=bvh)
     center = np.array([0.5, 1.0, 1.5])
     for axis in range(3):
         for sign in (-1, 1):
@@ -118,12 +125,13 @@ def _slab(o, d, lo, hi):
 vec = st.tuples(*[st.floats(-1, 1)] * 3).filter(lambda v: np.linalg.norm(v) > 0.1)
 
 
+@pytest.mark.parametrize("bvh", [False, True], ids=["linear", "bvh"])
 @settings(max_examples=200)
-@given(vec, vec, st.floats(-180, 180))
-def test_rotated_translated_box_matches_object_space(target, jitter, angle):
+@given(target=vec, jitter=vec, angle=st.floats(-180, 180))
+def test_rotated_translated_box_matches_object_space(target, jitter, angle, bvh):
     lo, hi = np.array([0.0, 0, 0]), np.array([165.0, 330, 165])
     offset = np.array([265.0, 0, 295])
-    a = arrays(rt.box(lo, hi, MAT).rotate_y(angle).translate(offset))
+    a = arrays(rt.box(lo, hi, MAT).rotate_y(angle).translate(offset), bvh=bvh)
     s, c = math.sin(math.radians(angle)), math.cos(math.radians(angle))
     rot = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])       # the books' rotate_y
     # A ray from outside aimed at a point strictly inside the box.  The odd
@@ -142,19 +150,19 @@ def test_rotated_translated_box_matches_object_space(target, jitter, angle):
     assert np.allclose(h["n_out"], rot @ n_obj, atol=1e-9) and h["front"]
 
 
-def test_rotate_then_translate_sphere_and_chains():
+def test_rotate_then_translate_sphere_and_chains(bvh):
     s = rt.sphere((1, 0, 0), 0.5, MAT).rotate_y(90).translate((0, 2, 0))
-    a = arrays(s)
+    a = arrays(s, bvh=bvh)
     # rotate_y(90): x' = cos x + sin z = 0, z' = -sin x + cos z = -1
     assert np.allclose(a.obj_f[0, :3], (0, 2, -1))
     # translate then rotate == rotate then translate by the rotated offset
     t1 = rt.box((0, 0, 0), (1, 1, 1), MAT).translate((1, 0, 0)).rotate_y(90)
     t2 = rt.box((0, 0, 0), (1, 1, 1), MAT).rotate_y(90).translate((0, 0, -1))
-    assert np.allclose(arrays(t1).obj_f, arrays(t2).obj_f)
+    assert np.allclose(arrays(t1, bvh=bvh).obj_f, arrays(t2, bvh=bvh).obj_f)
 
 
-def test_leaving_a_surface_never_hits_it_again():
-    a = arrays(rt.xz_rect(-1, 1, -1, 1, 0, MAT), rt.sphere((0, 5, 0), 1, MAT))
+def test_leaving_a_surface_never_hits_it_again(bvh):
+    a = arrays(rt.xz_rect(-1, 1, -1, 1, 0, MAT), rt.sphere((0, 5, 0), 1, MAT), bvh=bvh)
     # Leave the rect at its own plane, grazing upward: only the sphere counts.
     h = hit(a, (0, 0, 0), (0, 1, 0), from_obj=0)
     assert h["k"] == 1
@@ -171,10 +179,10 @@ def test_leaving_a_surface_never_hits_it_again():
 
 
 @pytest.mark.parametrize("scale", [1e-3, 1.0, 1e3])
-def test_self_exclusion_is_scale_free(scale):
+def test_self_exclusion_is_scale_free(scale, bvh):
     # A ray leaving a sphere at a point computed in floating point, grazing the
     # surface: no acne at any scale, because no epsilon is involved.
-    a = arrays(rt.sphere((0, 0, 0), scale, MAT))
+    a = arrays(rt.sphere((0, 0, 0), scale, MAT), bvh=bvh)
     rng = np.random.default_rng(1)
     for _ in range(200):
         n = rng.normal(size=3)
@@ -184,3 +192,21 @@ def test_self_exclusion_is_scale_free(scale):
         d = t / np.linalg.norm(t) + 1e-9 * n      # almost tangent, outward
         d /= np.linalg.norm(d)
         assert hit(a, p, d, from_obj=0, from_inside=False) is None
+
+
+def test_bvh_finds_the_same_hits_as_testing_every_object():
+    scene = rt.load_scene("weekend")
+    flat, tree = scene.arrays(bvh=False), scene.arrays(bvh=True)
+    assert len(tree.bvh_node) > 1 and len(flat.bvh_node) == 0
+    assert sorted(tree.bvh_prims) == list(range(len(tree.obj_i)))   # each object once
+    rng = np.random.default_rng(3)
+    hits = 0
+    for _ in range(3000):
+        o = rng.uniform([-12, 0.05, -12], [12, 3, 12])
+        d = rng.normal(size=3)
+        a, b = hit(flat, o, d), hit(tree, o, d)
+        assert (a is None) == (b is None)
+        if a is not None:
+            hits += 1
+            assert a["k"] == b["k"] and a["t"] == b["t"]
+    assert hits > 1000          # enough of the rays hit something
