@@ -21,3 +21,8 @@ BG_SKY = 1
 
 # "No object": closest_hit found nothing / a ray that starts at no surface.
 NO_HIT = -1
+
+# Classic (Computer Graphics from Scratch) light kinds.
+AMBIENT = 0
+POINT = 1
+DIRECTIONAL = 2
