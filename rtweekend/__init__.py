@@ -7,7 +7,8 @@
 """
 from .errors import SceneError
 from .image import save_image
-from .render import RenderResult, RenderStats, render
+from .render import Renderer, render
+from .result import RenderResult, RenderStats
 from .scene import SKY, Camera, Scene
 from .scenefile import bundled_scenes, load_scene
 from .shapes import (box, dielectric, diffuse_light, lambertian, metal, sphere,
@@ -15,7 +16,7 @@ from .shapes import (box, dielectric, diffuse_light, lambertian, metal, sphere,
 
 __all__ = [
     "SceneError", "load_scene", "bundled_scenes", "save_image",
-    "render", "RenderResult", "RenderStats", "Scene", "Camera", "SKY",
+    "render", "Renderer", "RenderResult", "RenderStats", "Scene", "Camera", "SKY",
     "lambertian", "metal", "dielectric", "diffuse_light",
     "sphere", "xy_rect", "xz_rect", "yz_rect", "box",
 ]

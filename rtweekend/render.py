@@ -1,4 +1,4 @@
-"""Progressive rendering: the prange kernel and the Python loop of passes.
+"""Progressive rendering: the prange kernel, the accumulating Renderer, render().
 
 A pass adds samples [s0, s1) to every pixel.  Each sample's random stream is
 keyed by (pixel, sample index, seed) and is added to its pixel's float64 sum in
@@ -6,11 +6,8 @@ sample order, so the image is bit-identical for any thread count and any way of
 splitting the samples into passes.
 """
 import math
-import signal
-import sys
-import threading
 import time as _time
-from dataclasses import dataclass
+from contextlib import contextmanager
 
 import numba
 import numpy as np
@@ -20,6 +17,8 @@ from .camera import get_ray
 from .errors import SceneError
 from .jit import jit_parallel
 from .path import trace
+from .progress import Progress, StopOnInterrupt
+from .result import RenderResult, RenderStats, mean_and_stderr
 
 SAMPLING = {"cosine": 0.0, "mixture": 0.5, "light": 1.0}
 PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
@@ -70,89 +69,9 @@ def interleaved_rows(height):
     return (np.arange(height, dtype=np.int64) * step) % height
 
 
-@dataclass
-class RenderStats:
-    width: int
-    height: int
-    spp: int                 # samples per pixel reached
-    spp_requested: int | None
-    seconds: float           # rendering wall time, compile excluded
-    compile_seconds: float   # first-call cost (near 0 when the cache is warm)
-    samples: int
-    rays: int                # path segments traced
-    nan_dropped: int         # samples that were NaN/Inf and left out of the mean
-    interrupted: bool
-    threads: int
-    seed: int
-
-    @property
-    def samples_per_s(self):
-        return self.samples / self.seconds if self.seconds > 0 else float("nan")
-
-    @property
-    def rays_per_s(self):
-        return self.rays / self.seconds if self.seconds > 0 else float("nan")
-
-    @property
-    def mean_path_length(self):
-        return self.rays / self.samples if self.samples else float("nan")
-
-    def summary(self):
-        note = (f" (interrupted: {self.spp} of {self.spp_requested} spp)"
-                if self.interrupted and self.spp_requested else
-                " (interrupted)" if self.interrupted else "")
-        return (f"{self.width}x{self.height}, {self.spp} spp, {self.seconds:.2f} s, "
-                f"{self.samples_per_s / 1e6:.3f} M samples/s, "
-                f"{self.rays_per_s / 1e6:.3f} M rays/s, "
-                f"{self.nan_dropped} NaN/Inf samples dropped{note}")
-
-
-class RenderResult:
-    """What render() returns; unpacks as (image, stats).
-
-    image: HxWx3 float32 linear radiance; stats: RenderStats; stderr: HxWx3
-    float32 per-pixel standard error, estimated from the samples' own variance.
-    """
-
-    def __init__(self, image, stats, stderr):
-        self.image, self.stats, self.stderr = image, stats, stderr
-
-    def __iter__(self):
-        return iter((self.image, self.stats))
-
-    def __getitem__(self, i):
-        return (self.image, self.stats)[i]
-
-    def __len__(self):
-        return 2
-
-    def __repr__(self):
-        return f"RenderResult({self.stats.summary()})"
-
-
-class _StopOnInterrupt:
-    """First Ctrl-C: finish the current pass and stop.  Second: abort at once."""
-
-    def __init__(self):
-        self.requested = False
-        self._previous = None
-
-    def _handler(self, signum, frame):
-        if self.requested:
-            raise KeyboardInterrupt
-        self.requested = True
-
-    def __enter__(self):
-        if threading.current_thread() is threading.main_thread():
-            self._previous = signal.signal(signal.SIGINT, self._handler)
-        return self
-
-    def __exit__(self, *exc):
-        if self._previous is not None:
-            signal.signal(signal.SIGINT, self._previous)
-
-
-def _check_options(spp, time, threads, seed, sampling, max_depth):
+def check_options(*, spp=None, time=None, threads=None, seed=0, sampling="mixture",
+                  max_depth=None):
+    """Raise SceneError for a render option that cannot be used."""
     if spp is not None and time is not None:
         raise SceneError("render: give either spp or time, not both")
     if spp is not None and (isinstance(spp, bool) or not isinstance(spp, int) or spp < 1):
@@ -171,9 +90,88 @@ def _check_options(spp, time, threads, seed, sampling, max_depth):
         raise SceneError(f"render: threads must be between 1 and {available}, got {threads!r}")
 
 
+@contextmanager
+def thread_count(threads):
+    """Run with `threads` Numba threads (None: leave as is), then restore."""
+    previous = numba.get_num_threads()
+    if threads is not None:
+        numba.set_num_threads(threads)
+    try:
+        yield numba.get_num_threads()
+    finally:
+        numba.set_num_threads(previous)
+
+
+class Renderer:
+    """One image being rendered: the frozen scene and the running sums.
+
+        r = Renderer(scene, seed=1)
+        r.compile()
+        r.add_samples(4); r.add_samples(12)    # 16 spp, same as one pass of 16
+        image, stats = r.result()
+    """
+
+    def __init__(self, scene, *, seed=0, width=None, height=None, max_depth=None,
+                 sampling="mixture", bvh=None):
+        check_options(seed=seed, sampling=sampling, max_depth=max_depth)
+        changes = {k: v for k, v in (("width", width), ("height", height)) if v is not None}
+        if changes:
+            scene = scene.with_camera(**changes)
+        self.scene = scene
+        self.arrays = scene.arrays(bvh=bvh)
+        self.cam = scene.camera.array()
+        self.width, self.height = scene.camera.width, scene.camera.height
+        self.max_depth = max_depth if max_depth is not None else scene.max_depth
+        self.light_weight = SAMPLING[sampling] if len(self.arrays.lights) else 0.0
+        self.seed = seed
+        h, w = self.height, self.width
+        self.accum = np.zeros((h, w, 3))
+        self.accum2 = np.zeros((h, w, 3))
+        self.valid = np.zeros((h, w), dtype=np.int64)
+        self.row_stats = np.zeros((h, 2), dtype=np.int64)
+        self.rows = interleaved_rows(h)
+        self.spp = 0               # samples per pixel so far
+        self.seconds = 0.0         # time spent in passes
+        self.compile_seconds = 0.0
+
+    def _run(self, s0, s1):
+        a = self.arrays
+        render_pass(self.accum, self.accum2, self.valid, self.row_stats, self.rows, s0, s1,
+                    self.seed, self.cam, self.width, self.height, a.obj_i, a.obj_f,
+                    a.bvh_box, a.bvh_node, a.bvh_prims, a.mat_i, a.mat_f, a.lights,
+                    a.bg_kind, a.bg, self.max_depth, self.light_weight)
+
+    def compile(self):
+        """Compile the kernel (or load it from the cache) with no samples."""
+        t0 = _time.perf_counter()
+        self._run(0, 0)
+        self.compile_seconds = _time.perf_counter() - t0
+        return self.compile_seconds
+
+    def add_samples(self, n):
+        """Render samples spp .. spp + n - 1 of every pixel; returns the seconds."""
+        t0 = _time.perf_counter()
+        self._run(self.spp, self.spp + n)
+        dt = _time.perf_counter() - t0
+        self.spp += n
+        self.seconds += dt
+        return dt
+
+    def result(self, *, spp_requested=None, interrupted=False, threads=None):
+        image, stderr = mean_and_stderr(self.accum, self.accum2, self.valid)
+        stats = RenderStats(
+            width=self.width, height=self.height, spp=self.spp,
+            spp_requested=spp_requested, seconds=self.seconds,
+            compile_seconds=self.compile_seconds, samples=self.width * self.height * self.spp,
+            rays=int(self.row_stats[:, 0].sum()), nan_dropped=int(self.row_stats[:, 1].sum()),
+            interrupted=interrupted, threads=threads or numba.get_num_threads(),
+            seed=self.seed)
+        return RenderResult(image, stats, stderr)
+
+
 def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
            max_depth=None, threads=None, sampling="mixture", progress=False, bvh=None):
-    """Path-trace `scene`; returns RenderResult(image, stats).
+    """Path-trace `scene`; returns RenderResult, which unpacks as (image, stats).
 
     spp: samples per pixel (default: the scene's); time: render passes until
     this many seconds are spent instead.  sampling: "mixture" (The Rest of Your
@@ -184,77 +182,30 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     Ctrl-C finishes the current pass and returns what was rendered
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt.
     """
-    _check_options(spp, time, threads, seed, sampling, max_depth)
-    cam_changes = {k: v for k, v in (("width", width), ("height", height)) if v is not None}
-    if cam_changes:
-        scene = scene.with_camera(**cam_changes)
+    check_options(spp=spp, time=time, threads=threads, seed=seed, sampling=sampling,
+                  max_depth=max_depth)
+    renderer = Renderer(scene, seed=seed, width=width, height=height, max_depth=max_depth,
+                        sampling=sampling, bvh=bvh)
     if spp is None and time is None:
         spp = scene.spp
-    arrays = scene.arrays(bvh=bvh)
-    cam = scene.camera.array()
-    w, h = scene.camera.width, scene.camera.height
-    depth = max_depth if max_depth is not None else scene.max_depth
-    light_weight = SAMPLING[sampling] if len(arrays.lights) else 0.0
-
-    accum = np.zeros((h, w, 3), dtype=np.float64)
-    accum2 = np.zeros((h, w, 3), dtype=np.float64)
-    valid = np.zeros((h, w), dtype=np.int64)
-    row_stats = np.zeros((h, 2), dtype=np.int64)
-    rows = interleaved_rows(h)
-
-    def run(s0, s1):
-        render_pass(accum, accum2, valid, row_stats, rows, s0, s1, seed, cam, w, h,
-                    arrays.obj_i, arrays.obj_f, arrays.bvh_box, arrays.bvh_node,
-                    arrays.bvh_prims, arrays.mat_i, arrays.mat_f, arrays.lights,
-                    arrays.bg_kind, arrays.bg, depth, light_weight)
-
-    previous_threads = numba.get_num_threads()
-    if threads is not None:
-        numba.set_num_threads(threads)
-    report = _Progress(progress, spp)
+    report = Progress(progress, spp)
+    interrupted = False
     try:
-        t0 = _time.perf_counter()
-        run(0, 0)                      # compile (or load from cache); no samples
-        compile_seconds = _time.perf_counter() - t0
-        report.started()
-        done, passes, interrupted = 0, 0, False
-        start = _time.perf_counter()
-        with _StopOnInterrupt() as stop:
-            while True:
-                elapsed = _time.perf_counter() - start
-                n = _next_pass(done, spp, time, elapsed)
-                if n == 0:
-                    break
-                run(done, done + n)
-                done += n
+        with thread_count(threads) as used, StopOnInterrupt() as stop:
+            renderer.compile()
+            report.started()
+            passes = 0
+            while n := _next_pass(renderer.spp, spp, time, renderer.seconds):
+                renderer.add_samples(n)
                 passes += 1
-                report.update(done, passes, _time.perf_counter() - start, w * h)
+                report.update(renderer.spp, passes, renderer.seconds,
+                              renderer.width * renderer.height)
                 if stop.requested:
-                    interrupted = spp is None or done < spp
+                    interrupted = spp is None or renderer.spp < spp
                     break
-        seconds = _time.perf_counter() - start
     finally:
         report.close()
-        numba.set_num_threads(previous_threads)
-
-    image, stderr = _mean_and_stderr(accum, accum2, valid)
-    stats = RenderStats(width=w, height=h, spp=done, spp_requested=spp, seconds=seconds,
-                        compile_seconds=compile_seconds, samples=w * h * done,
-                        rays=int(row_stats[:, 0].sum()),
-                        nan_dropped=int(row_stats[:, 1].sum()),
-                        interrupted=interrupted,
-                        threads=threads or previous_threads, seed=seed)
-    return RenderResult(image, stats, stderr)
-
-
-def _mean_and_stderr(accum, accum2, valid):
-    n = valid[..., None].astype(np.float64)
-    mean = np.divide(accum, n, out=np.zeros_like(accum), where=n > 0)
-    # Unbiased sample variance / n; pixels with < 2 samples get no estimate (inf).
-    var = np.divide(accum2 - n * mean * mean, n - 1, out=np.full_like(accum, np.inf),
-                    where=n > 1)
-    stderr = np.sqrt(np.maximum(var, 0.0) / np.maximum(n, 1))
-    return mean.astype(np.float32), stderr.astype(np.float32)
+    return renderer.result(spp_requested=spp, interrupted=interrupted, threads=used)
 
 
 def _next_pass(done, spp, budget, elapsed):
@@ -273,34 +224,3 @@ def _next_pass(done, spp, budget, elapsed):
     if remaining < 0.5 * per_spp:
         return 0
     return max(1, min(n, int(remaining / per_spp)))
-
-
-class _Progress:
-    """Reports passes to a callable, to a tqdm bar on stderr, or nowhere."""
-
-    def __init__(self, progress, spp):
-        self.callback = progress if callable(progress) else None
-        self.spp = spp
-        self.bar = None
-        if progress is True:
-            from tqdm import tqdm
-            self.bar = tqdm(total=spp, unit="spp", desc="compiling", leave=False,
-                            dynamic_ncols=True, file=sys.stderr)
-
-    def started(self):
-        """Compiling is over: restart the bar's clock so its rate is honest."""
-        if self.bar is not None:
-            self.bar.set_description("render", refresh=False)
-            self.bar.reset(total=self.spp)
-
-    def update(self, done, passes, seconds, pixels):
-        rate = done * pixels / seconds if seconds > 0 else 0.0
-        if self.callback is not None:
-            self.callback(done, self.spp, rate)
-        if self.bar is not None:
-            self.bar.update(done - self.bar.n)
-            self.bar.set_postfix_str(f"pass {passes}, {rate / 1e6:.2f} M samples/s")
-
-    def close(self):
-        if self.bar is not None:
-            self.bar.close()

@@ -94,3 +94,13 @@ def test_cornell_box_agrees_with_mitsuba(cornell_box, cornell_reference):
     assert np.abs(z).max() < 5.0, f"worst block z = {np.abs(z).max():.2f}"
     mean_se = np.sqrt((se.astype(np.float64) ** 2).sum() + (ref_se ** 2).sum()) / se.size
     assert abs(ours.mean() - ref.mean()) < 4 * mean_se
+
+
+def test_renderer_accumulates_passes_like_one_render(cornell_box):
+    r = rt.Renderer(cornell_box, seed=4, width=24, height=24)
+    r.compile()
+    r.add_samples(1)
+    r.add_samples(4)
+    image, stats = r.result()
+    assert stats.spp == 5 and stats.seconds > 0
+    assert np.array_equal(image, rt.render(cornell_box, spp=5, seed=4, width=24, height=24)[0])
