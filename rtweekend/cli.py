@@ -42,11 +42,12 @@ def _seed(text):
     return value
 
 
-def _seconds(text):
+def _positive_number(text):
+    """A positive number (seconds for --time, a radiance for --clamp)."""
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected seconds, got '{text}'") from None
+        raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
     if not value > 0:
         raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
     return value
@@ -65,7 +66,7 @@ def build_parser():
     budget = r.add_mutually_exclusive_group()
     budget.add_argument("--spp", type=_positive_int, help="samples per pixel "
                         "(default: the scene's)")
-    budget.add_argument("--time", type=_seconds, metavar="SECONDS",
+    budget.add_argument("--time", type=_positive_number, metavar="SECONDS",
                         help="render passes until this many seconds are spent")
     r.add_argument("--width", type=_positive_int, help="image width (default: the scene's)")
     r.add_argument("--height", type=_positive_int, help="image height (default: the scene's)")
@@ -76,6 +77,8 @@ def build_parser():
     r.add_argument("--sampling", choices=("mixture", "cosine", "light"), default="mixture",
                    help="diffuse sampling: the books' 0.5/0.5 mixture (default), cosine "
                    "only, or lights only")
+    r.add_argument("--clamp", type=_positive_number, metavar="X", help="cap every sample's "
+                   "channels at X: fewer fireflies, but BIASED (darker); off by default")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     sub.add_parser("scenes", help="list the bundled scenes",
                    description="List the bundled scenes with a line about each.")
@@ -112,7 +115,7 @@ def _render(args):
     check_output_path(output)            # before spending minutes on the render
     result = render(scene, spp=args.spp, time=args.time, seed=args.seed,
                     width=args.width, height=args.height, max_depth=args.max_depth,
-                    threads=args.threads, sampling=args.sampling,
+                    threads=args.threads, sampling=args.sampling, clamp=args.clamp,
                     progress=not args.quiet)
     image, stats = result
     try:

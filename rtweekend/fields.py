@@ -6,13 +6,22 @@ import numbers
 from .errors import FieldError
 
 
+# Intersection tests square coordinates and radii: beyond this they overflow.
+LARGEST = 1e100
+
+
 def _real(value, field):
     # bool is an int in Python; `radius = true` is a mistake, not 1.
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise FieldError(field, f"expected a number, got {_show(value)}")
-    value = float(value)
+    try:
+        value = float(value)
+    except OverflowError:
+        raise FieldError(field, f"must be within +-{LARGEST:g}") from None
     if not math.isfinite(value):
         raise FieldError(field, f"must be finite, got {value}")
+    if abs(value) > LARGEST:
+        raise FieldError(field, f"must be within +-{LARGEST:g}, got {value:g}")
     return value
 
 
@@ -34,7 +43,7 @@ def number(value, field, *, lo=None, hi=None, lo_open=False, hi_open=False,
     return x
 
 
-def integer(value, field, *, lo=1):
+def integer(value, field, *, lo=1, hi=None):
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
         if isinstance(value, float) and value.is_integer():
             value = int(value)
@@ -42,6 +51,8 @@ def integer(value, field, *, lo=1):
             raise FieldError(field, f"expected an integer, got {_show(value)}")
     if value < lo:
         raise FieldError(field, f"must be >= {lo}, got {value}")
+    if hi is not None and value > hi:
+        raise FieldError(field, f"must be <= {hi}, got {value}")
     return int(value)
 
 

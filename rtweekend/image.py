@@ -44,12 +44,17 @@ def check_output_path(path):
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise SceneError(f"{path}: cannot write: folder '{folder}' does not exist")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise SceneError(f"{path}: cannot write: folder '{folder}' is not writable")
     if path.is_dir():
         raise SceneError(f"{path}: cannot write: it is a folder")
-    if path.exists() and not os.access(path, os.W_OK):
-        raise SceneError(f"{path}: cannot write: the file is read-only")
+    try:
+        # Permission bits do not tell the whole story (root, read-only mounts,
+        # /sys): create and remove the temporary file the write will use.
+        fd, probe = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part", dir=folder)
+        os.close(fd)
+        os.unlink(probe)
+    except OSError as e:
+        raise SceneError(f"{path}: cannot write in folder '{folder}': "
+                         f"{e.strerror or e}") from None
 
 
 def encode(image, ext):

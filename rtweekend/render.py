@@ -18,20 +18,28 @@ from .errors import SceneError
 from .jit import jit_parallel
 from .path import trace
 from .progress import Progress, StopOnInterrupt
-from .result import RenderResult, RenderStats, mean_and_stderr
+from .result import RenderResult, RenderStats, firefly_stats, mean_and_stderr
 
 SAMPLING = {"cosine": 0.0, "mixture": 0.5, "light": 1.0}
 PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
 
+# Histogram of sample values (mean of r, g, b) per row, for the firefly count:
+# BINS_PER_OCTAVE bins per factor of 2, from 2**LOG2_LOWEST up.
+BINS_PER_OCTAVE = 16
+LOG2_LOWEST = -24.0
+HIST_BINS = 64 * BINS_PER_OCTAVE
+
 
 @jit_parallel
-def render_pass(accum, accum2, valid, row_stats, rows, s0, s1, seed, cam, width, height,
-                obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i, mat_f, lights,
-                bg_kind, bg, max_depth, light_weight):
+def render_pass(accum, accum2, valid, row_stats, hist_n, hist_e, rows, s0, s1, seed, cam,
+                width, height, obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i, mat_f,
+                lights, bg_kind, bg, max_depth, light_weight, clamp):
     """Add samples s0..s1-1 of every pixel; rows[k] spreads the work over threads.
 
     accum/accum2 sum each sample's radiance and its square (for the standard
-    error); row_stats[y] += (ray segments traced, samples dropped as NaN/Inf).
+    error); row_stats[y] += (ray segments traced, samples dropped as NaN/Inf);
+    hist_n/hist_e[y] count and sum the samples by value, for the firefly stats.
+    clamp (inf: none) caps each sample's channels -- biased, but tames fireflies.
     """
     for k in numba.prange(rows.shape[0]):
         y = rows[k]
@@ -46,16 +54,23 @@ def render_pass(accum, accum2, valid, row_stats, rows, s0, s1, seed, cam, width,
                                     mat_f, lights, bg_kind, bg, max_depth, light_weight,
                                     o, d, state)
                 segments += n
-                if math.isfinite(c[0] + c[1] + c[2]):
-                    accum[y, x, 0] += c[0]
-                    accum[y, x, 1] += c[1]
-                    accum[y, x, 2] += c[2]
-                    accum2[y, x, 0] += c[0] * c[0]
-                    accum2[y, x, 1] += c[1] * c[1]
-                    accum2[y, x, 2] += c[2] * c[2]
-                    valid[y, x] += 1
-                else:
+                if not math.isfinite(c[0] + c[1] + c[2]):
                     dropped += 1
+                    continue
+                r, g, b = min(c[0], clamp), min(c[1], clamp), min(c[2], clamp)
+                accum[y, x, 0] += r
+                accum[y, x, 1] += g
+                accum[y, x, 2] += b
+                accum2[y, x, 0] += r * r
+                accum2[y, x, 1] += g * g
+                accum2[y, x, 2] += b * b
+                valid[y, x] += 1
+                v = (r + g + b) / 3.0
+                if v > 0.0:
+                    i = int((math.log2(v) - LOG2_LOWEST) * BINS_PER_OCTAVE)
+                    i = min(max(i, 0), HIST_BINS - 1)
+                    hist_n[y, i] += 1
+                    hist_e[y, i] += v
         row_stats[y, 0] += segments
         row_stats[y, 1] += dropped
 
@@ -70,8 +85,10 @@ def interleaved_rows(height):
 
 
 def check_options(*, spp=None, time=None, threads=None, seed=0, sampling="mixture",
-                  max_depth=None):
+                  max_depth=None, clamp=None):
     """Raise SceneError for a render option that cannot be used."""
+    if clamp is not None and not (isinstance(clamp, (int, float)) and clamp > 0):
+        raise SceneError(f"render: clamp must be a number > 0, got {clamp!r}")
     if spp is not None and time is not None:
         raise SceneError("render: give either spp or time, not both")
     if spp is not None and (isinstance(spp, bool) or not isinstance(spp, int) or spp < 1):
@@ -112,8 +129,8 @@ class Renderer:
     """
 
     def __init__(self, scene, *, seed=0, width=None, height=None, max_depth=None,
-                 sampling="mixture", bvh=None):
-        check_options(seed=seed, sampling=sampling, max_depth=max_depth)
+                 sampling="mixture", bvh=None, clamp=None):
+        check_options(seed=seed, sampling=sampling, max_depth=max_depth, clamp=clamp)
         changes = {k: v for k, v in (("width", width), ("height", height)) if v is not None}
         if changes:
             scene = scene.with_camera(**changes)
@@ -124,11 +141,14 @@ class Renderer:
         self.max_depth = max_depth if max_depth is not None else scene.max_depth
         self.light_weight = SAMPLING[sampling] if len(self.arrays.lights) else 0.0
         self.seed = seed
+        self.clamp = math.inf if clamp is None else float(clamp)
         h, w = self.height, self.width
         self.accum = np.zeros((h, w, 3))
         self.accum2 = np.zeros((h, w, 3))
         self.valid = np.zeros((h, w), dtype=np.int64)
         self.row_stats = np.zeros((h, 2), dtype=np.int64)
+        self.hist_n = np.zeros((h, HIST_BINS), dtype=np.int64)
+        self.hist_e = np.zeros((h, HIST_BINS))
         self.rows = interleaved_rows(h)
         self.spp = 0               # samples per pixel so far
         self.seconds = 0.0         # time spent in passes
@@ -136,10 +156,11 @@ class Renderer:
 
     def _run(self, s0, s1):
         a = self.arrays
-        render_pass(self.accum, self.accum2, self.valid, self.row_stats, self.rows, s0, s1,
-                    self.seed, self.cam, self.width, self.height, a.obj_i, a.obj_f,
-                    a.bvh_box, a.bvh_node, a.bvh_prims, a.mat_i, a.mat_f, a.lights,
-                    a.bg_kind, a.bg, self.max_depth, self.light_weight)
+        render_pass(self.accum, self.accum2, self.valid, self.row_stats, self.hist_n,
+                    self.hist_e, self.rows, s0, s1, self.seed, self.cam, self.width,
+                    self.height, a.obj_i, a.obj_f, a.bvh_box, a.bvh_node, a.bvh_prims,
+                    a.mat_i, a.mat_f, a.lights, a.bg_kind, a.bg, self.max_depth,
+                    self.light_weight, self.clamp)
 
     def compile(self):
         """Compile the kernel (or load it from the cache) with no samples."""
@@ -159,18 +180,23 @@ class Renderer:
 
     def result(self, *, spp_requested=None, interrupted=False, threads=None):
         image, stderr = mean_and_stderr(self.accum, self.accum2, self.valid)
+        fireflies, firefly_energy = firefly_stats(
+            self.hist_n.sum(axis=0), self.hist_e.sum(axis=0), float(image.mean()),
+            LOG2_LOWEST, BINS_PER_OCTAVE)
         stats = RenderStats(
             width=self.width, height=self.height, spp=self.spp,
             spp_requested=spp_requested, seconds=self.seconds,
             compile_seconds=self.compile_seconds, samples=self.width * self.height * self.spp,
             rays=int(self.row_stats[:, 0].sum()), nan_dropped=int(self.row_stats[:, 1].sum()),
             interrupted=interrupted, threads=threads or numba.get_num_threads(),
-            seed=self.seed)
+            seed=self.seed, fireflies=fireflies, firefly_energy=firefly_energy,
+            clamp=None if math.isinf(self.clamp) else self.clamp)
         return RenderResult(image, stats, stderr)
 
 
 def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
-           max_depth=None, threads=None, sampling="mixture", progress=False, bvh=None):
+           max_depth=None, threads=None, sampling="mixture", progress=False, bvh=None,
+           clamp=None):
     """Path-trace `scene`; returns RenderResult, which unpacks as (image, stats).
 
     spp: samples per pixel (default: the scene's); time: render passes until
@@ -179,13 +205,14 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     indirect light).  progress: True for a bar on stderr, or a callable
     progress(spp_done, spp_total_or_None, samples_per_s).  bvh: force the
     hierarchy on (True) or off (False); by default scenes with many objects use it.
-    Ctrl-C finishes the current pass and returns what was rendered
+    clamp: cap every sample's channels at this value (biased: it removes energy;
+    off by default).  Ctrl-C finishes the current pass and returns what was rendered
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt.
     """
     check_options(spp=spp, time=time, threads=threads, seed=seed, sampling=sampling,
-                  max_depth=max_depth)
+                  max_depth=max_depth, clamp=clamp)
     renderer = Renderer(scene, seed=seed, width=width, height=height, max_depth=max_depth,
-                        sampling=sampling, bvh=bvh)
+                        sampling=sampling, bvh=bvh, clamp=clamp)
     if spp is None and time is None:
         spp = scene.spp
     report = Progress(progress, spp)

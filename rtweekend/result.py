@@ -1,7 +1,10 @@
 """What a render returns: the image, its standard error, and the stats."""
+import math
 from dataclasses import dataclass
 
 import numpy as np
+
+FIREFLY_FACTOR = 100.0   # a firefly: a sample worth this many times the image mean
 
 
 @dataclass
@@ -18,6 +21,9 @@ class RenderStats:
     interrupted: bool
     threads: int
     seed: int
+    fireflies: int = 0       # samples above FIREFLY_FACTOR x the image mean
+    firefly_energy: float = 0.0   # their share of the image's total energy
+    clamp: float | None = None    # the (biased) cap on sample values, if any
 
     @property
     def samples_per_s(self):
@@ -31,6 +37,10 @@ class RenderStats:
     def mean_path_length(self):
         return self.rays / self.samples if self.samples else float("nan")
 
+    @property
+    def firefly_fraction(self):
+        return self.fireflies / self.samples if self.samples else 0.0
+
     def summary(self):
         note = (f" (interrupted: {self.spp} of {self.spp_requested} spp)"
                 if self.interrupted and self.spp_requested else
@@ -38,7 +48,10 @@ class RenderStats:
         return (f"{self.width}x{self.height}, {self.spp} spp, {self.seconds:.2f} s, "
                 f"{self.samples_per_s / 1e6:.3f} M samples/s, "
                 f"{self.rays_per_s / 1e6:.3f} M rays/s, "
-                f"{self.nan_dropped} NaN/Inf samples dropped{note}")
+                f"{self.nan_dropped} NaN/Inf samples dropped, "
+                f"{self.fireflies} fireflies (>{FIREFLY_FACTOR:g}x mean) holding "
+                f"{100 * self.firefly_energy:.1f}% of the energy"
+                + (f", clamped at {self.clamp:g} (biased)" if self.clamp else "") + note)
 
 
 class RenderResult:
@@ -73,3 +86,26 @@ def mean_and_stderr(accum, accum2, valid):
                     where=n > 1)
     stderr = np.sqrt(np.maximum(var, 0.0) / np.maximum(n, 1))
     return mean.astype(np.float32), stderr.astype(np.float32)
+
+
+def firefly_stats(counts, energy, image_mean, log2_lowest, bins_per_octave):
+    """(samples above FIREFLY_FACTOR x image_mean, their share of all energy).
+
+    From a histogram of sample values with `bins_per_octave` bins per doubling:
+    the bin holding the threshold is split in proportion to where the
+    threshold falls in it (log scale), so the count is exact whenever no sample
+    lies within 1/bins_per_octave octave of the threshold.
+    """
+    total = float(energy.sum())
+    if image_mean <= 0.0 or total <= 0.0:
+        return 0, 0.0
+    x = (math.log2(FIREFLY_FACTOR * image_mean) - log2_lowest) * bins_per_octave
+    i = int(math.floor(x))
+    if i < 0:
+        return int(counts.sum()), 1.0
+    if i >= len(counts):
+        return 0, 0.0
+    above = 1.0 - (x - i)        # part of bin i above the threshold
+    n = counts[i + 1:].sum() + above * counts[i]
+    e = energy[i + 1:].sum() + above * energy[i]
+    return int(round(n)), float(e / total)

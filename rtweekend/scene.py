@@ -22,6 +22,7 @@ from .shapes import Shape, _label, flatten
 from .tags import BG_COLOR, BG_SKY, RECT, SPHERE
 
 SKY = "sky"
+MAX_SIZE = 65536         # pixels per side, a sanity bound (65536^2 would need ~200 GB of sums)
 # From this many primitives on, the BVH beats testing every object.  Measured
 # (2 threads, samples/s, flat -> BVH): metals, 4 spheres: 2.41 -> 2.14 M;
 # random spheres on a ground sphere: 4: 4.24 -> 4.72, 6: 3.64 -> 4.56,
@@ -55,8 +56,8 @@ class Camera:
         set_(self, "vfov", fields.number(self.vfov, "vfov", lo=0.0, hi=180.0,
                                          lo_open=True, hi_open=True))
         set_(self, "aperture", fields.number(self.aperture, "aperture", lo=0.0))
-        set_(self, "width", fields.integer(self.width, "width"))
-        set_(self, "height", fields.integer(self.height, "height"))
+        set_(self, "width", fields.integer(self.width, "width", hi=MAX_SIZE))
+        set_(self, "height", fields.integer(self.height, "height", hi=MAX_SIZE))
         view = np.subtract(self.lookat, self.lookfrom)
         dist = float(np.linalg.norm(view))
         if dist == 0.0:

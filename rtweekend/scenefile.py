@@ -67,11 +67,27 @@ def load_scene(name_or_path):
         doc = tomllib.loads(source)
     except tomllib.TOMLDecodeError as e:
         raise SceneError(f"{where}: TOML syntax error: {e}") from None
-    return _Loader(where).scene(doc, name=Path(where).stem)
+    return scene_from_dict(doc, where=where, name=Path(where).stem)
+
+
+def scene_from_dict(doc, *, where="<scene>", name="scene"):
+    """A Scene from a parsed document (a dict shaped like the TOML file)."""
+    if not isinstance(doc, dict):
+        raise SceneError(f"{where}: expected a table at the top level")
+    return _Loader(where).scene(doc, name=name)
+
+
+# The books' (and other renderers') names for our fields, for the hint.
+SYNONYMS = {"samples_per_pixel": "spp", "samples": "spp", "depth": "max_depth",
+            "image_width": "width", "image_height": "height", "fov": "vfov",
+            "focus_distance": "focus_dist", "ref_idx": "ior", "ir": "ior",
+            "eta": "ior", "color": "albedo", "radiance": "emit", "up": "vup",
+            "origin": "lookfrom", "eye": "lookfrom", "target": "lookat"}
 
 
 def _unknown(key, allowed):
-    close = difflib.get_close_matches(key, allowed, n=1)
+    close = [SYNONYMS[key]] if SYNONYMS.get(key) in allowed else \
+        difflib.get_close_matches(key, allowed, n=1)
     hint = f" (did you mean '{close[0]}'?)" if close else ""
     return f"unknown field '{key}'{hint}; expected one of: {', '.join(allowed)}"
 
@@ -142,8 +158,8 @@ class _Loader:
     def material(self, spec, what, name=None):
         spec = self.table(spec, what)
         kind = spec.get("type")
-        if kind not in MATERIALS:
-            hint = f"'{kind}' is not a material type" if kind is not None else "missing"
+        if not isinstance(kind, str) or kind not in MATERIALS:
+            hint = f"{kind!r} is not a material type" if kind is not None else "missing"
             raise self.fail(what, f"type: {hint}; expected one of: {', '.join(MATERIALS)}")
         return self.call(MATERIALS[kind], {k: v for k, v in spec.items() if k != "type"},
                          ("type",), f"{what} ({kind})", name=name)
@@ -178,8 +194,8 @@ class _Loader:
         name = spec.get("name")
         if name is not None and not isinstance(name, str):
             raise self.fail(what, f"name: expected a string, got {name!r}")
-        if kind not in SHAPES:
-            hint = f"'{kind}' is not an object type" if kind is not None else "missing"
+        if not isinstance(kind, str) or kind not in SHAPES:
+            hint = f"{kind!r} is not an object type" if kind is not None else "missing"
             raise self.fail(what, f"type: {hint}; expected one of: {', '.join(SHAPES)}")
         what = f"{what} ({_label(kind, name)})"
         if "material" not in spec:

@@ -1,0 +1,267 @@
+"""Bad input: one line naming the file, object and field; exit 2; no file.
+
+The command is run in-process here (rtweekend.cli.main) to keep the many cases
+fast; tests/test_cli.py runs it as a subprocess for the end-to-end view.
+"""
+import textwrap
+
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+import rtweekend as rt
+from rtweekend.cli import main
+from rtweekend.scenefile import scene_from_dict
+
+GOOD = textwrap.dedent("""\
+    description = "a test scene"
+    lights = ["lamp"]
+
+    [camera]
+    lookfrom = [0, 0, 5]
+    lookat = [0, 0, 0]
+    width = 8
+    height = 8
+
+    [render]
+    spp = 2
+    max_depth = 5
+
+    [materials]
+    white = { type = "lambertian", albedo = [0.7, 0.7, 0.7] }
+    glow = { type = "diffuse_light", emit = [4, 4, 4] }
+
+    [[objects]]
+    name = "ball"
+    type = "sphere"
+    center = [0, 0, 0]
+    radius = 1
+    material = "white"
+
+    [[objects]]
+    name = "lamp"
+    type = "xz_rect"
+    x0 = -1
+    x1 = 1
+    z0 = -1
+    z1 = 1
+    k = 3
+    material = "glow"
+    flip_face = true
+
+    [[objects]]
+    name = "crate"
+    type = "box"
+    p0 = [2, 0, 0]
+    p1 = [3, 1, 1]
+    material = "white"
+    """)
+
+
+def run_cli(tmp_path, capsys, *args):
+    """(exit status, stderr lines) of `rtweekend ...` with the cwd at tmp_path."""
+    try:
+        status = main(list(args))
+    except SystemExit as e:          # argparse's own errors
+        status = e.code
+    err = capsys.readouterr().err.strip().splitlines()
+    return status, err
+
+
+@pytest.fixture
+def scene_file(tmp_path):
+    def write(text):
+        path = tmp_path / "bad.toml"
+        path.write_text(text)
+        return path
+    return write
+
+
+def test_the_good_scene_renders(tmp_path, capsys, scene_file):
+    out = tmp_path / "ok.png"
+    status, err = run_cli(tmp_path, capsys, "render", str(scene_file(GOOD)), "-o", str(out),
+                          "-q")
+    assert status == 0 and out.exists()
+
+
+def _edit(old, new, count=1):
+    assert old in GOOD, old
+    return GOOD.replace(old, new, count)
+
+
+BAD_SCENES = [
+    # (scene text, words the one line must contain)
+    ("lookfrom = [0, 0, 5\n", ["TOML syntax error", "line"]),
+    (_edit('radius = 1', 'raduis = 1'), ["objects[0] (sphere 'ball')", "raduis",
+                                           "did you mean 'radius'"]),
+    (_edit('[render]', '[render]\nsamples = 4'), ["render", "samples", "did you mean 'spp'"]),
+    (_edit('lookat = [0, 0, 0]', 'look_at = [0, 0, 0]'), ["camera", "look_at",
+                                                           "did you mean 'lookat'"]),
+    (_edit('description', 'descripton'), ["descripton", "did you mean 'description'"]),
+    (_edit('albedo = [0.7, 0.7, 0.7] }', 'albdo = [0.7, 0.7, 0.7] }'),
+     ["materials.white (lambertian)", "albdo", "did you mean 'albedo'"]),
+    (_edit('radius = 1\n', ''), ["objects[0] (sphere 'ball')", "radius: missing"]),
+    (_edit('material = "white"\n', ''), ["objects[0] (sphere 'ball')", "material: missing"]),
+    (_edit('type = "sphere"\n', ''), ["objects[0]", "type: missing"]),
+    (_edit('type = "sphere"', 'type = "cube"'), ["objects[0]", "'cube' is not an object type"]),
+    (_edit('{ type = "lambertian", ', '{ '), ["materials.white", "type: missing"]),
+    (_edit('radius = 1', 'radius = "big"'), ["sphere 'ball'", "radius: expected a number"]),
+    (_edit('center = [0, 0, 0]', 'center = [0, 0]'), ["sphere 'ball'", "center: expected 3"]),
+    (_edit('[0.7, 0.7, 0.7]', '"grey"'), ["materials.white", "albedo: expected 3"]),
+    (_edit('flip_face = true', 'flip_face = 1'), ["xz_rect 'lamp'", "flip_face: expected true"]),
+    (_edit('width = 8', 'width = 8.5'), ["camera", "width: expected an integer"]),
+    (_edit('spp = 2', 'spp = "2"'), ["render", "spp: expected an integer"]),
+    (_edit('lights = ["lamp"]', 'lights = "lamp"'), ["lights", "expected an array"]),
+    (_edit('[0.7, 0.7, 0.7]', '[0.7, -0.1, 0.7]'), ["materials.white", "albedo",
+                                                     "must be >= 0"]),
+    (_edit('[0.7, 0.7, 0.7]', '[0.7, 1.5, 0.7]'), ["materials.white", "albedo",
+                                                    "must be <= 1"]),
+    (_edit('emit = [4, 4, 4]', 'emit = [4, -4, 4]'), ["materials.glow (diffuse_light)", "emit",
+                                                      "must be >= 0"]),
+    (_edit('white = {', 'glass = { type = "dielectric", ior = 0 }\nwhite = {'),
+     ["materials.glass (dielectric)", "ior: must be > 0"]),
+    (_edit('white = {', 'm = { type = "metal", albedo = [1, 1, 1], fuzz = -0.1 }\nwhite = {'),
+     ["materials.m (metal)", "fuzz: must be >= 0"]),
+    (_edit('width = 8', 'width = 0'), ["camera", "width: must be >= 1"]),
+    (_edit('height = 8', 'height = -3'), ["camera", "height: must be >= 1"]),
+    (_edit('spp = 2', 'spp = 0'), ["render", "spp: must be >= 1"]),
+    (_edit('max_depth = 5', 'max_depth = 0'), ["render", "max_depth: must be >= 1"]),
+    (_edit('material = "white"', 'material = "whte"'), ["sphere 'ball'",
+                                                        "no material named 'whte'",
+                                                        "did you mean 'white'"]),
+    (_edit('lights = ["lamp"]', 'lights = ["lmap"]'), ["lights[0]", "no object named 'lmap'",
+                                                       "did you mean 'lamp'"]),
+    (_edit('lights = ["lamp"]', 'lights = ["crate"]'), ["lights[0]", "'crate' is a box"]),
+    (_edit('name = "lamp"', 'name = "ball"'), ["objects[1]", "'ball' is already used"]),
+    (_edit('max_depth = 5', 'max_depth = 5\nbackground = "skyy"'),
+     ["render", "background", '"sky"']),
+    (_edit('lookat = [0, 0, 0]', 'lookat = [0, 0, 5]'), ["camera", "lookat: equals lookfrom"]),
+    (_edit('[camera]', '[camera]\nvfov = 180'), ["camera", "vfov: must be < 180"]),
+    (_edit('radius = 1', 'radius = 0'), ["sphere 'ball'", "radius: must not be 0"]),
+    (_edit('x1 = 1', 'x1 = -1'), ["xz_rect 'lamp'", "x1: must be greater than x0"]),
+    (_edit('p1 = [3, 1, 1]', 'p1 = [2, 0, 0]'), ["box 'crate'", "p1:", "no volume"]),
+]
+
+
+@pytest.mark.parametrize("text, words", BAD_SCENES,
+                         ids=[w[-1][:30] for _, w in BAD_SCENES])
+def test_bad_scene_file(tmp_path, capsys, scene_file, text, words):
+    path = scene_file(text)
+    out = tmp_path / "out.png"
+    out.write_bytes(b"keep me")
+    status, err = run_cli(tmp_path, capsys, "render", str(path), "-o", str(out), "-q")
+    assert status == 2
+    assert len(err) == 1, err
+    line = err[0]
+    assert line.startswith(f"rtweekend: error: {path}: ")
+    for w in words:
+        assert w in line, (w, line)
+    assert out.read_bytes() == b"keep me"          # neither replaced nor truncated
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml", "out.png"]
+    # The API raises SceneError (a ValueError) with the same message.
+    with pytest.raises(rt.SceneError) as info:
+        rt.load_scene(path)
+    assert isinstance(info.value, ValueError)
+    assert line == f"rtweekend: error: {info.value}"
+
+
+BAD_COMMANDS = [
+    (["render", "no_such_scene"], ["unknown scene 'no_such_scene'", "cornell_glass", "metals"]),
+    (["render", "metals", "-o", "/sys/rtweekend.png"], ["/sys/rtweekend.png",
+                                                        "cannot write"]),
+    (["render", "metals", "-o", "missing/x.png"], ["missing/x.png", "does not exist"]),
+    (["render", "metals", "-o", "x.gif2"], ["x.gif2", "unknown output extension"]),
+    (["render", "metals", "--spp", "4", "--time", "2"], ["--time", "not allowed with",
+                                                         "--spp"]),
+    (["render", "metals", "--spp", "-1"], ["--spp", "must be >= 1"]),
+    (["render", "metals", "--width", "0"], ["--width", "must be >= 1"]),
+    (["render", "metals", "--seed", "x"], ["--seed", "expected an integer"]),
+    (["render", "metals", "--threads", "999"], ["threads must be between 1 and"]),
+    (["render", "metals", "--time", "0"], ["--time", "must be > 0"]),
+    (["render", "metals", "--sampling", "magic"], ["--sampling", "invalid choice"]),
+    (["render", "no_such.toml"], ["no_such.toml: no such scene file"]),
+    (["rendr"], ["invalid choice: 'rendr'"]),
+]
+
+
+@pytest.mark.parametrize("args, words", BAD_COMMANDS, ids=[" ".join(a) for a, _ in BAD_COMMANDS])
+def test_bad_command_line(tmp_path, capsys, monkeypatch, args, words):
+    monkeypatch.chdir(tmp_path)
+    status, err = run_cli(tmp_path, capsys, *args)
+    assert status == 2
+    assert len(err) == 1, err
+    for w in words:
+        assert w in err[0], (w, err[0])
+    assert list(tmp_path.iterdir()) == []
+
+
+# Property-based: any document either loads or raises SceneError.
+
+VALUES = st.recursive(
+    st.none() | st.booleans() | st.integers(-10**20, 10**20) | st.floats(allow_nan=True)
+    | st.text(max_size=8) | st.sampled_from(["sky", "sphere", "box", "xz_rect", "lambertian",
+                                             "metal", "white", "lamp", "ball"]),
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(
+        st.sampled_from(["type", "albedo", "center", "radius", "material", "name", "x0",
+                         "x1", "z0", "z1", "k", "p0", "p1", "emit", "fuzz", "ior",
+                         "rotate_y", "translate", "flip_face"]), inner, max_size=6),
+    max_leaves=12)
+
+KEYS = ["description", "lights", "camera", "render", "materials", "objects", "bogus"]
+
+
+@settings(max_examples=400, suppress_health_check=[HealthCheck.too_slow])
+@given(doc=st.dictionaries(st.sampled_from(KEYS), VALUES, max_size=6))
+def test_any_document_loads_or_raises_scene_error(doc):
+    try:
+        scene = scene_from_dict(doc)
+    except rt.SceneError as e:
+        assert "\n" not in str(e)
+    else:
+        scene.arrays()
+
+
+def _mutated_good_docs():
+    import tomllib
+    good = tomllib.loads(GOOD)
+    paths = []
+
+    def walk(node, path):
+        items = node.items() if isinstance(node, dict) else enumerate(node)
+        for k, v in items:
+            paths.append(path + (k,))
+            if isinstance(v, (dict, list)):
+                walk(v, path + (k,))
+    walk(good, ())
+    return good, paths
+
+
+GOOD_DOC, GOOD_PATHS = _mutated_good_docs()
+
+
+@settings(max_examples=400)
+@given(path=st.sampled_from(GOOD_PATHS), value=VALUES)
+def test_one_bad_field_in_a_good_document(path, value):
+    import copy
+    doc = copy.deepcopy(GOOD_DOC)
+    node = doc
+    for k in path[:-1]:
+        node = node[k]
+    node[path[-1]] = value
+    try:
+        scene = scene_from_dict(doc)
+    except rt.SceneError as e:
+        assert "\n" not in str(e)
+    else:
+        scene.arrays()
+
+
+@settings(max_examples=200)
+@given(text=st.text(max_size=200))
+def test_any_text_loads_or_raises_scene_error(tmp_path_factory, text):
+    path = tmp_path_factory.mktemp("fuzz") / "fuzz.toml"
+    path.write_text(text)
+    try:
+        rt.load_scene(path)
+    except rt.SceneError:
+        pass
