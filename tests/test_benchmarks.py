@@ -1,0 +1,25 @@
+"""The benchmark scripts run (tiny versions) and write what they promise."""
+import json
+import subprocess
+import sys
+
+from conftest import REPO
+
+
+def test_accuracy_benchmark_quick(tmp_path):
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "accuracy.py"), "--quick",
+                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    data = json.loads((tmp_path / "accuracy.json").read_text())
+    assert set(data["scenes"]) == {"cornell_box", "cornell_glass"}
+    for scene in data["scenes"].values():
+        assert set(scene["curves"]) == {"cosine", "light", "mixture"}
+        for rows in scene["curves"].values():
+            assert [p["spp"] for p in rows] == [1, 2, 4]
+            assert all(p["rmse"] > 0 and p["nan_fraction"] == 0 for p in rows)
+            times = [p["seconds"] for p in rows]
+            assert times == sorted(times)
+    assert "Mitsuba" in data["scenes"]["cornell_box"]["reference"]
+    assert "not independent" in data["scenes"]["cornell_glass"]["reference"]
+    for name in ("accuracy.png", "accuracy_crops.png"):
+        assert (tmp_path / name).stat().st_size > 10_000
