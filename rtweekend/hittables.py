@@ -19,7 +19,7 @@ is no t_min to tune (the books' 0.001 breaks for scenes 1000x smaller).
 """
 import math
 
-from .jit import jit
+from .jit import jit, jit_inline
 from .tags import NO_HIT, OBJ_KIND, SPHERE
 from .vec3 import dot, madd, sub
 
@@ -27,7 +27,7 @@ INF = math.inf
 OBJ_FLOATS = 20   # a RECT's row; a SPHERE uses the first 5
 
 
-@jit
+@jit_inline
 def sphere_t(obj_f, k, o, d, t_max, far_only):
     """Nearest root in (0, t_max) of |o + t d - c| = |r| for unit d, else inf."""
     oc = (o[0] - obj_f[k, 0], o[1] - obj_f[k, 1], o[2] - obj_f[k, 2])
@@ -47,7 +47,7 @@ def sphere_t(obj_f, k, o, d, t_max, far_only):
     return INF
 
 
-@jit
+@jit_inline
 def rect_t(obj_f, k, o, d, t_max):
     """Distance along d to the rectangle, in (0, t_max), else inf.
 
@@ -69,7 +69,7 @@ def rect_t(obj_f, k, o, d, t_max):
     return t
 
 
-@jit
+@jit_inline
 def object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside):
     """Distance to object k for a ray leaving object from_obj (NO_HIT: none).
 
@@ -86,7 +86,7 @@ def object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside):
     return rect_t(obj_f, k, o, d, t_max)
 
 
-@jit
+@jit_inline
 def _box_entry(bvh_box, i, o, inv_d, t_max):
     """Does the ray enter box i before t_max?  (slab test, inv_d = 1 / d)"""
     t0 = (bvh_box[i, 0] - o[0]) * inv_d[0]
@@ -101,7 +101,7 @@ def _box_entry(bvh_box, i, o, inv_d, t_max):
     return near <= far and far > 0.0 and near < t_max
 
 
-@jit
+@jit_inline
 def closest_hit(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, o, d, t_max, from_obj,
                 from_inside):
     """(object index, t) of the nearest hit, or (NO_HIT, inf).
@@ -136,7 +136,7 @@ def closest_hit(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, o, d, t_max, from_ob
     return best, t_max
 
 
-@jit
+@jit_inline
 def outward_normal(obj_i, obj_f, k, p):
     """Unit normal at p on object k, pointing to its front side."""
     if obj_i[k, OBJ_KIND] == SPHERE:
@@ -147,7 +147,7 @@ def outward_normal(obj_i, obj_f, k, p):
     return (obj_f[k, 9], obj_f[k, 10], obj_f[k, 11])
 
 
-@jit
+@jit_inline
 def enters(obj_i, obj_f, k, p, d):
     """Does a ray leaving object k at p along d go into its ball?  (spheres only)"""
     if obj_i[k, OBJ_KIND] != SPHERE:

@@ -58,6 +58,17 @@ def jit(fn):
     return njit(**_OPTIONS)(fn)
 
 
+def jit_inline(fn):
+    """A hot helper that takes arrays, inlined into its caller by Numba itself.
+
+    Each call of a compiled function with array arguments increments and
+    decrements every array's reference count (atomic operations); inlining at
+    Numba's level removes them.  It costs compile time, so only for the
+    helpers called per object or per bounce.
+    """
+    return njit(inline="always", **_OPTIONS)(fn)
+
+
 def jit_parallel(fn):
     """A kernel with a `prange` loop over pixels (only render.py and classic.py)."""
     return njit(parallel=True, **_OPTIONS)(fn)

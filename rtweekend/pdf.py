@@ -8,7 +8,7 @@ import math
 
 from . import rng
 from .hittables import object_t, INF
-from .jit import jit
+from .jit import jit, jit_inline
 from .tags import OBJ_KIND, SPHERE
 from .vec3 import dot, local, onb, scale
 
@@ -44,7 +44,7 @@ def _one_minus_cos_theta_max(r2, dist2):
     return x / (1.0 + math.sqrt(1.0 - x))
 
 
-@jit
+@jit_inline
 def light_generate_one(obj_i, obj_f, k, p, state):
     """A unit direction from p towards light k."""
     if obj_i[k, OBJ_KIND] == SPHERE:
@@ -71,7 +71,7 @@ def light_generate_one(obj_i, obj_f, k, p, state):
     return (dx * inv, dy * inv, dz * inv), state
 
 
-@jit
+@jit_inline
 def light_value_one(obj_i, obj_f, k, p, d, from_obj, from_inside):
     """Solid-angle density at p of direction d under light k's sampling.
 
@@ -95,14 +95,14 @@ def light_value_one(obj_i, obj_f, k, p, d, from_obj, from_inside):
 
 # -- all lights, chosen uniformly (the books' hittable_list pdf) -----------------
 
-@jit
+@jit_inline
 def lights_generate(obj_i, obj_f, lights, p, state):
     u, state = rng.uniform(state)
     j = min(int(u * lights.shape[0]), lights.shape[0] - 1)
     return light_generate_one(obj_i, obj_f, lights[j], p, state)
 
 
-@jit
+@jit_inline
 def lights_value(obj_i, obj_f, lights, p, d, from_obj, from_inside):
     total = 0.0
     for j in range(lights.shape[0]):
@@ -112,7 +112,7 @@ def lights_value(obj_i, obj_f, lights, p, d, from_obj, from_inside):
 
 # -- the mixture at a diffuse hit (The Rest of Your Life, chapter "Mixing") -------
 
-@jit
+@jit_inline
 def mixture_generate(obj_i, obj_f, lights, p, n, light_weight, state):
     """A unit direction from (1 - w) cosine + w lights (w = light_weight)."""
     u, state = rng.uniform(state)
@@ -121,7 +121,7 @@ def mixture_generate(obj_i, obj_f, lights, p, n, light_weight, state):
     return cosine_generate(n, state)
 
 
-@jit
+@jit_inline
 def mixture_value(obj_i, obj_f, lights, p, n, light_weight, d, from_obj, from_inside):
     value = (1.0 - light_weight) * cosine_value(n, d)
     if light_weight > 0.0:
