@@ -51,11 +51,14 @@ def sphere_t(obj_f, k, o, d, t_max, far_only):
 def rect_t(obj_f, k, o, d, t_max):
     """Distance along d to the rectangle, in (0, t_max), else inf.
 
-    A ray parallel to the plane gives t = +-inf or NaN, which fails the range
-    test with no extra branch (error_model='numpy').
+    Helpers that are inlined take their caller's error model, so no division
+    here may rely on error_model='numpy' turning x/0 into inf.
     """
     n = (obj_f[k, 9], obj_f[k, 10], obj_f[k, 11])
-    t = (obj_f[k, 12] - dot(n, o)) / dot(n, d)
+    denom = dot(n, d)
+    if denom == 0.0:
+        return INF                  # parallel to the plane
+    t = (obj_f[k, 12] - dot(n, o)) / denom
     if not (0.0 < t < t_max):
         return INF
     p = madd(o, d, t)
@@ -84,6 +87,12 @@ def object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside):
     if k == from_obj:
         return INF                  # a plane is never hit twice
     return rect_t(obj_f, k, o, d, t_max)
+
+
+@jit
+def _reciprocal(x):
+    """1/x, with 1/0 = inf of the same sign, under any error model."""
+    return 1.0 / x if x != 0.0 else math.copysign(INF, x)
 
 
 @jit_inline
@@ -117,7 +126,7 @@ def closest_hit(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, o, d, t_max, from_ob
                 t_max = t
                 best = k
         return best, t_max
-    inv_d = (1.0 / d[0], 1.0 / d[1], 1.0 / d[2])
+    inv_d = (_reciprocal(d[0]), _reciprocal(d[1]), _reciprocal(d[2]))
     i = 0
     while i < bvh_node.shape[0]:
         if _box_entry(bvh_box, i, o, inv_d, t_max):
