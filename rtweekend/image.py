@@ -57,8 +57,15 @@ def check_output_path(path):
                          f"{e.strerror or e}") from None
 
 
-def encode(image, ext):
-    """The file contents for `image` (HxWx3 linear radiance) as bytes."""
+def to_bytes_for_display(image, display):
+    """8-bit pixels: the books' tone map, or the classic canvas stored as is."""
+    if display == "canvas":
+        return np.rint(np.clip(np.nan_to_num(image) * 255.0, 0, 255)).astype(np.uint8)
+    return tonemap(image)
+
+
+def encode(image, ext, display="gamma2"):
+    """The file contents for `image` (HxWx3 float) as bytes."""
     image = np.asarray(image, dtype=np.float32)
     if image.ndim != 3 or image.shape[2] != 3:
         raise SceneError(f"save_image: expected an HxWx3 image, got shape {image.shape}")
@@ -69,7 +76,7 @@ def encode(image, ext):
         _write_exr(image, buf)
     else:
         import imageio.v3 as iio
-        return iio.imwrite("<bytes>", tonemap(image), extension=ext)
+        return iio.imwrite("<bytes>", to_bytes_for_display(image, display), extension=ext)
     return buf.getvalue()
 
 
@@ -88,12 +95,16 @@ def _write_exr(image, buf):
 def save_image(image, path):
     """Write `image` to `path`, atomically; the format follows the extension.
 
-    .png/.jpg/...: the books' tone map; .npy: float32 linear radiance;
-    .exr: float32 linear radiance (needs the `exr` extra).
+    image: an HxWx3 array of linear radiance, or what render() returned (a
+    classic render then keeps its exact canvas colours).  .png/.jpg/...: the
+    books' tone map; .npy and .exr: float32 linear values (.exr needs the
+    `exr` extra).
     """
+    display = getattr(image, "display", "gamma2")
+    image = getattr(image, "image", image)
     path = Path(path)
     check_output_path(path)
-    data = encode(image, path.suffix.lower())
+    data = encode(image, path.suffix.lower(), display)
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part",
                                dir=path.parent if str(path.parent) else ".")
     try:

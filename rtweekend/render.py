@@ -14,11 +14,13 @@ import numpy as np
 
 from . import rng
 from .camera import get_ray
+from .classic_scene import render_classic_scene
 from .errors import SceneError
 from .jit import jit_parallel
 from .path import trace
 from .progress import Progress, StopOnInterrupt
 from .result import RenderResult, RenderStats, firefly_stats, mean_and_stderr
+from .rows import interleaved_rows
 
 SAMPLING = {"cosine": 0.0, "mixture": 0.5, "light": 1.0}
 PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
@@ -75,15 +77,6 @@ def render_pass(accum, accum2, valid, row_stats, hist_n, hist_e, rows, s0, s1, s
         row_stats[y, 1] += dropped
 
 
-def interleaved_rows(height):
-    """A permutation of the rows such that any contiguous chunk of it (what a
-    thread gets from prange) samples the whole image: cost is balanced."""
-    step = max(1, int(height * 0.6180339887))
-    while math.gcd(step, height) != 1:
-        step += 1
-    return (np.arange(height, dtype=np.int64) * step) % height
-
-
 def check_options(*, spp=None, time=None, threads=None, seed=0, sampling="mixture",
                   max_depth=None, clamp=None):
     """Raise SceneError for a render option that cannot be used."""
@@ -136,9 +129,10 @@ class Renderer:
             scene = scene.with_camera(**changes)
         self.scene = scene
         self.arrays = scene.arrays(bvh=bvh)
-        self.cam = scene.camera.array()
-        self.width, self.height = scene.camera.width, scene.camera.height
-        self.max_depth = max_depth if max_depth is not None else scene.max_depth
+        camera = scene.resolved_camera()
+        self.cam = camera.array()
+        self.width, self.height = camera.width, camera.height
+        self.max_depth = max_depth if max_depth is not None else scene.resolved_max_depth()
         self.light_weight = SAMPLING[sampling] if len(self.arrays.lights) else 0.0
         self.seed = seed
         self.clamp = math.inf if clamp is None else float(clamp)
@@ -195,9 +189,13 @@ class Renderer:
 
 
 def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
-           max_depth=None, threads=None, sampling="mixture", progress=False, bvh=None,
+           max_depth=None, threads=None, sampling=None, progress=False, bvh=None,
            clamp=None):
-    """Path-trace `scene`; returns RenderResult, which unpacks as (image, stats).
+    """Render `scene`; returns RenderResult, which unpacks as (image, stats).
+
+    A classic (Computer Graphics from Scratch) scene is ray traced once per
+    pixel; width, height, max_depth (its recursion depth) and threads apply,
+    the sampling options do not.  Otherwise the scene is path traced:
 
     spp: samples per pixel (default: the scene's); time: render passes until
     this many seconds are spent instead.  sampling: "mixture" (The Rest of Your
@@ -209,6 +207,11 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     off by default).  Ctrl-C finishes the current pass and returns what was rendered
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt.
     """
+    if scene.resolved_integrator() == "classic":
+        return _render_classic(scene, spp=spp, time=time, width=width, height=height,
+                               max_depth=max_depth, threads=threads, sampling=sampling,
+                               clamp=clamp, bvh=bvh)
+    sampling = sampling or "mixture"
     check_options(spp=spp, time=time, threads=threads, seed=seed, sampling=sampling,
                   max_depth=max_depth, clamp=clamp)
     renderer = Renderer(scene, seed=seed, width=width, height=height, max_depth=max_depth,
@@ -233,6 +236,22 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     finally:
         report.close()
     return renderer.result(spp_requested=spp, interrupted=interrupted, threads=used)
+
+
+def _render_classic(scene, *, width, height, max_depth, threads, **path_options):
+    given = [name for name, value in path_options.items() if value is not None]
+    if given:
+        raise SceneError(f"render: {given[0]} does not apply to the classic ray tracer "
+                         "(one ray per pixel, no sampling)")
+    if max_depth is not None and (not isinstance(max_depth, int) or max_depth < 0):
+        raise SceneError(f"render: max_depth must be an integer >= 0, got {max_depth!r}")
+    check_options(threads=threads)
+    if width is not None or height is not None:
+        scene = scene.with_camera(**{k: v for k, v in (("width", width), ("height", height))
+                                     if v is not None})
+    scene.check()
+    with thread_count(threads):
+        return render_classic_scene(scene, max_depth=max_depth)
 
 
 def _next_pass(done, spp, budget, elapsed):

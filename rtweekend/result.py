@@ -24,6 +24,7 @@ class RenderStats:
     fireflies: int = 0       # samples above FIREFLY_FACTOR x the image mean
     firefly_energy: float = 0.0   # their share of the image's total energy
     clamp: float | None = None    # the (biased) cap on sample values, if any
+    integrator: str = "path"      # or "classic" (one ray per pixel, no noise)
 
     @property
     def samples_per_s(self):
@@ -42,6 +43,11 @@ class RenderStats:
         return self.fireflies / self.samples if self.samples else 0.0
 
     def summary(self):
+        if self.integrator == "classic":
+            return (f"{self.width}x{self.height}, classic ray tracer, 1 ray per pixel, "
+                    f"{self.seconds:.3f} s, {self.rays_per_s / 1e6:.3f} M rays/s "
+                    f"(primary, shadow and reflected), {self.nan_dropped} NaN/Inf "
+                    "samples dropped")
         note = (f" (interrupted: {self.spp} of {self.spp_requested} spp)"
                 if self.interrupted and self.spp_requested else
                 " (interrupted)" if self.interrupted else "")
@@ -59,10 +65,13 @@ class RenderResult:
 
     image: HxWx3 float32 linear radiance; stats: RenderStats; stderr: HxWx3
     float32 per-pixel standard error, estimated from the samples' own variance.
+    display: how an 8-bit file shows the image -- "gamma2" (the books' tone
+    map) or "canvas" (the classic ray tracer's colours / 255, stored as is).
     """
 
-    def __init__(self, image, stats, stderr):
+    def __init__(self, image, stats, stderr, display="gamma2"):
         self.image, self.stats, self.stderr = image, stats, stderr
+        self.display = display
 
     def __iter__(self):
         return iter((self.image, self.stats))

@@ -18,8 +18,9 @@ from .camera import camera_array
 from .errors import FieldError, SceneError
 from .hittables import OBJ_FLOATS
 from .materials import MAT_FLOATS
-from .shapes import Shape, _label, flatten
-from .tags import BG_COLOR, BG_SKY, RECT, SPHERE
+from .classic_scene import ClassicCamera, ClassicLight
+from .shapes import MATERIAL_NAMES, Shape, _label, flatten
+from .tags import BG_COLOR, BG_SKY, PHONG, RECT, SPHERE
 
 SKY = "sky"
 MAX_SIZE = 65536         # pixels per side, a sanity bound (65536^2 would need ~200 GB of sums)
@@ -89,16 +90,27 @@ class SceneArrays(NamedTuple):
     bvh_prims: np.ndarray
 
 
+INTEGRATORS = ("path", "classic")
+
+
 @dataclass(eq=False)
 class Scene:
-    camera: Camera = field(default_factory=Camera)
+    """Objects, lights, a camera and render defaults.
+
+    The integrator follows from what the scene holds: phong materials, ambient /
+    point / directional lights or a ClassicCamera make it a Computer Graphics
+    from Scratch scene (classic); the books' materials, rects, boxes or area
+    lights make it a path-traced one.  `integrator` forces the choice.
+    """
+    camera: object = None          # Camera, ClassicCamera, or None: the default one
     objects: list = field(default_factory=list)
-    lights: list = field(default_factory=list)
-    background: object = (0.0, 0.0, 0.0)   # an RGB radiance, or "sky"
+    lights: list = field(default_factory=list)   # shapes (path) or ClassicLights
+    background: object = None      # path: RGB radiance or "sky"; classic: 0..255 RGB
     spp: int = 100
-    max_depth: int = 50
+    max_depth: int | None = None   # path: 50 segments; classic: 3 reflections
     description: str = ""
     name: str = "scene"
+    integrator: str | None = None  # "path", "classic", or None: from the contents
 
     def add(self, shape, light=False):
         """Add a shape (and, with light=True, to the lights the pdf samples)."""
@@ -109,39 +121,105 @@ class Scene:
             self.add_light(shape)
         return shape
 
-    def add_light(self, shape):
-        if shape.kind == "box":
-            raise SceneError(f"lights: {_label(shape.kind, shape.name)} is a box; "
+    def add_light(self, light):
+        """A shape for the path tracer's light pdf, or a ClassicLight."""
+        if isinstance(light, Shape) and light.kind == "box":
+            raise SceneError(f"lights: {_label(light.kind, light.name)} is a box; "
                              "the light pdf samples rects and spheres only")
-        self.lights.append(shape)
-        return shape
+        if not isinstance(light, (Shape, ClassicLight)):
+            raise SceneError(f"lights: expected a shape or a classic light, "
+                             f"got {type(light).__name__}")
+        self.lights.append(light)
+        return light
+
+    # -- which integrator, and its defaults --------------------------------------
+
+    def resolved_integrator(self):
+        """"path" or "classic"; SceneError if the scene mixes the two."""
+        classic, path = [], []
+        for shape in self.objects:
+            label = _label(shape.kind, shape.name)
+            kind = MATERIAL_NAMES[shape.material.kind]
+            (classic if shape.material.kind == PHONG else path).append(
+                f"{label} has a {kind} material")
+            if shape.kind != "sphere":
+                path.append(f"{label} is a {shape.kind} (the classic ray tracer has "
+                            "spheres only)")
+        for light in self.lights:
+            if isinstance(light, ClassicLight):
+                classic.append(f"it has a {light.kind} light")
+            else:
+                path.append(f"it has an area light ({_label(light.kind, light.name)})")
+        if isinstance(self.camera, ClassicCamera):
+            classic.append("its camera is the classic one (position, rotation, viewport)")
+        elif isinstance(self.camera, Camera):
+            path.append("its camera is the path tracer's (lookfrom, lookat, vfov)")
+        chosen = self.integrator
+        if chosen is not None and chosen not in INTEGRATORS:
+            raise SceneError(f"integrator: expected one of {', '.join(INTEGRATORS)}, "
+                             f"got {chosen!r}")
+        if chosen == "classic" and path:
+            raise SceneError(f"integrator: classic, but {path[0]}")
+        if chosen == "path" and classic:
+            raise SceneError(f"integrator: path, but {classic[0]}")
+        if chosen is None and classic and path:
+            raise SceneError("the scene mixes the classic ray tracer and the path tracer, "
+                             f"which cannot be combined: {classic[0]}, but {path[0]}")
+        return chosen or ("classic" if classic else "path")
+
+    def resolved_camera(self):
+        if self.camera is not None:
+            return self.camera
+        return ClassicCamera() if self.resolved_integrator() == "classic" else Camera()
+
+    def resolved_max_depth(self):
+        if self.max_depth is not None:
+            return self.max_depth
+        return 3 if self.resolved_integrator() == "classic" else 50
+
+    def resolved_background(self):
+        return (0.0, 0.0, 0.0) if self.background is None else self.background
 
     def with_camera(self, **changes):
         """A copy whose camera has some fields replaced (e.g. width, height)."""
-        return replace(self, camera=replace(self.camera, **changes))
+        return replace(self, camera=replace(self.resolved_camera(), **changes))
 
     def check(self):
         """Validate the whole scene; raises SceneError."""
+        classic = self.resolved_integrator() == "classic"
         try:
             fields.integer(self.spp, "spp")
-            fields.integer(self.max_depth, "max_depth")
-            background_radiance(self.background)
+            fields.integer(self.resolved_max_depth(), "max_depth", lo=0 if classic else 1)
+            if classic:
+                fields.color(self.resolved_background(), "background", hi=255.0)
+            else:
+                background_radiance(self.resolved_background())
         except FieldError as e:
             raise SceneError(f"render: {e}") from None
-        for shape in self.lights:
-            if not any(shape is s for s in self.objects):
-                raise SceneError(f"lights: {_label(shape.kind, shape.name)} "
+        for light in self.lights:
+            if isinstance(light, Shape) and not any(light is s for s in self.objects):
+                raise SceneError(f"lights: {_label(light.kind, light.name)} "
                                  "is not among the scene's objects")
         if not self.objects:
             raise SceneError("objects: the scene has no objects")
 
+    def classic_spheres(self):
+        """[(center, radius, material)] placed in the world, for classic.py."""
+        out = []
+        for shape in self.objects:
+            for _, (center, radius) in flatten(shape):
+                out.append((tuple(center), radius, shape.material))
+        return out
+
     def arrays(self, bvh=None):
-        """Freeze the scene into the flat arrays the kernels read.
+        """Freeze the scene into the flat arrays the path-tracing kernel reads.
 
         bvh: build a hierarchy (True), test every object (False), or decide by
         the number of primitives (None: from BVH_MIN_OBJECTS on).
         """
         self.check()
+        if self.resolved_integrator() != "path":
+            raise SceneError("this scene is rendered by the classic integrator")
         materials, mat_index = [], {}
         obj_i, obj_f, first = [], [], {}
         for shape in self.objects:
@@ -162,7 +240,7 @@ class Scene:
         mat_i = np.array([mt.kind for mt in materials], dtype=np.int64)
         mat_f = np.array([(*mt.color, mt.param) for mt in materials], dtype=np.float64)
         lights = np.array([first[id(s)] for s in self.lights], dtype=np.int64)
-        bg_kind, bg = background_radiance(self.background)
+        bg_kind, bg = background_radiance(self.resolved_background())
         obj_i = np.array(obj_i, dtype=np.int64).reshape(-1, 2)
         obj_f = np.array(obj_f, dtype=np.float64).reshape(-1, OBJ_FLOATS)
         if bvh is None:

@@ -12,12 +12,15 @@ from pathlib import Path
 
 from . import fields
 from .errors import FieldError, SceneError
-from .scene import Camera, Scene, background_radiance
+from .classic_scene import LIGHTS, ClassicCamera
+from .scene import INTEGRATORS, Camera, Scene, background_radiance
 from .shapes import MATERIALS, SHAPES, _label
 
-TOP_KEYS = ("description", "lights", "camera", "render", "materials", "objects")
-CAMERA_KEYS = ("lookfrom", "lookat", "vup", "vfov", "aperture", "focus_dist",
-               "width", "height")
+TOP_KEYS = ("description", "integrator", "lights", "camera", "render", "materials",
+            "objects")
+PATH_CAMERA_KEYS = ("lookfrom", "lookat", "vup", "vfov", "aperture", "focus_dist")
+CLASSIC_CAMERA_KEYS = ("position", "rotation", "viewport", "d")
+SIZE_KEYS = ("width", "height")
 RENDER_KEYS = ("spp", "max_depth", "background")
 PLACEMENT_KEYS = ("rotate_y", "translate", "flip_face")
 OBJECT_KEYS = ("type", "name", "material") + PLACEMENT_KEYS
@@ -115,10 +118,13 @@ class _Loader:
         scene = Scene(name=name)
         try:
             scene.description = fields.text(doc.get("description", ""), "description")
+            if "integrator" in doc:
+                scene.integrator = fields.text(doc["integrator"], "integrator")
+                if scene.integrator not in INTEGRATORS:
+                    raise FieldError("integrator", f"expected one of {', '.join(INTEGRATORS)}"
+                                     f", got '{scene.integrator}'")
         except FieldError as e:
             raise self.fail("", str(e)) from None
-        scene.camera = self.camera(self.table(doc.get("camera", {}), "camera"))
-        self.render_defaults(self.table(doc.get("render", {}), "render"), scene)
         materials = self.materials(self.table(doc.get("materials", {}), "materials"))
         objects = doc.get("objects", [])
         if not isinstance(objects, list):
@@ -135,23 +141,56 @@ class _Loader:
         self.lights(doc.get("lights", []), named, scene)
         if not scene.objects:
             raise self.fail("objects", "the scene has no objects")
+        camera = self.table(doc.get("camera", {}), "camera")
+        render = self.table(doc.get("render", {}), "render")
+        classic = self.integrator(scene) == "classic"
+        scene.camera = self.camera(camera, classic)
+        classic = self.integrator(scene) == "classic"     # the camera may decide it
+        self.render_defaults(render, scene, classic)
+        try:
+            scene.check()
+        except SceneError as e:
+            raise SceneError(f"{self.where}: {e}") from None
         return scene
 
-    def camera(self, table):
-        self.check_keys(table, CAMERA_KEYS, "camera")
+    def integrator(self, scene):
         try:
-            return Camera(**table)
+            return scene.resolved_integrator()
         except SceneError as e:
             raise SceneError(f"{self.where}: {e}") from None
 
-    def render_defaults(self, table, scene):
-        self.check_keys(table, RENDER_KEYS, "render")
+    def camera(self, table, classic):
+        """The path tracer's Camera or the book's ClassicCamera, by its keys."""
+        own = [k for k in table if k in CLASSIC_CAMERA_KEYS]
+        other = [k for k in table if k in PATH_CAMERA_KEYS]
+        if own and other:
+            raise self.fail("camera", f"'{own[0]}' belongs to the classic camera and "
+                            f"'{other[0]}' to the path tracer's; use one of them")
+        classic = bool(own) or (classic and not other)
+        keys = CLASSIC_CAMERA_KEYS + SIZE_KEYS if classic else PATH_CAMERA_KEYS + SIZE_KEYS
+        self.check_keys(table, keys, "camera")
         try:
-            scene.spp = fields.integer(table.get("spp", scene.spp), "spp")
-            scene.max_depth = fields.integer(table.get("max_depth", scene.max_depth),
-                                             "max_depth")
-            scene.background = table.get("background", scene.background)
-            background_radiance(scene.background)
+            return ClassicCamera(**table) if classic else Camera(**table)
+        except SceneError as e:
+            raise SceneError(f"{self.where}: {e}") from None
+
+    def render_defaults(self, table, scene, classic):
+        if classic and "spp" in table:
+            raise self.fail("render", "spp: does not apply to the classic ray tracer "
+                            "(one ray per pixel)")
+        self.check_keys(table, RENDER_KEYS[1:] if classic else RENDER_KEYS, "render")
+        try:
+            if "spp" in table:
+                scene.spp = fields.integer(table["spp"], "spp")
+            if "max_depth" in table:
+                scene.max_depth = fields.integer(table["max_depth"], "max_depth",
+                                                 lo=0 if classic else 1)
+            if "background" in table:
+                scene.background = table["background"]
+                if classic:
+                    fields.color(scene.background, "background", hi=255.0)
+                else:
+                    background_radiance(scene.background)
         except FieldError as e:
             raise self.fail("render", str(e)) from None
 
@@ -223,18 +262,42 @@ class _Loader:
             raise self.fail(what, str(e)) from None
         return shape
 
-    def lights(self, names, named, scene):
-        if not isinstance(names, list):
-            raise self.fail("lights", "expected an array of object names")
-        for j, name in enumerate(names):
-            if not isinstance(name, str):
-                raise self.fail(f"lights[{j}]", f"expected an object name, got {name!r}")
-            if name not in named:
-                close = difflib.get_close_matches(name, list(named), n=1)
+    def lights(self, entries, named, scene):
+        """Names of shapes (the path tracer's light pdf) or tables of classic lights."""
+        if not isinstance(entries, list):
+            raise self.fail("lights", "expected an array of object names, or of "
+                            "[[lights]] tables (ambient, point, directional)")
+        for j, entry in enumerate(entries):
+            if isinstance(entry, dict):
+                scene.add_light(self.classic_light(entry, f"lights[{j}]"))
+                continue
+            if not isinstance(entry, str):
+                raise self.fail(f"lights[{j}]", f"expected an object name or a table, "
+                                f"got {entry!r}")
+            if entry not in named:
+                close = difflib.get_close_matches(entry, list(named), n=1)
                 hint = f" (did you mean '{close[0]}'?)" if close else ""
-                raise self.fail(f"lights[{j}]", f"no object named '{name}'{hint}")
-            shape = named[name]
+                raise self.fail(f"lights[{j}]", f"no object named '{entry}'{hint}")
+            shape = named[entry]
             if shape.kind == "box":
-                raise self.fail(f"lights[{j}]", f"'{name}' is a box; the light pdf "
+                raise self.fail(f"lights[{j}]", f"'{entry}' is a box; the light pdf "
                                 "samples rects and spheres only")
             scene.add_light(shape)
+
+    def classic_light(self, spec, what):
+        kind = spec.get("type")
+        if not isinstance(kind, str) or kind not in LIGHTS:
+            hint = f"{kind!r} is not a light type" if kind is not None else "missing"
+            raise self.fail(what, f"type: {hint}; expected one of: {', '.join(LIGHTS)}")
+        args = {k: v for k, v in spec.items() if k != "type"}
+        params = list(inspect.signature(LIGHTS[kind]).parameters)
+        for key in args:
+            if key not in params:
+                raise self.fail(f"{what} ({kind})", _unknown(key, ["type"] + params))
+        for p in params:
+            if p not in args:
+                raise self.fail(f"{what} ({kind})", f"{p}: missing (required)")
+        try:
+            return LIGHTS[kind](**args)
+        except SceneError as e:
+            raise self.fail(what, str(e)) from None

@@ -15,7 +15,7 @@ import numpy as np
 
 from . import fields
 from .errors import FieldError, SceneError
-from .tags import DIELECTRIC, DIFFUSE_LIGHT, LAMBERTIAN, METAL
+from .tags import DIELECTRIC, DIFFUSE_LIGHT, LAMBERTIAN, METAL, PHONG
 
 
 def _label(kind, name):
@@ -46,9 +46,10 @@ def _checked(kind):
 @dataclass(frozen=True, eq=False)
 class Material:
     kind: int             # a tag from tags.py
-    color: tuple          # albedo, or emitted radiance for a light
-    param: float = 0.0    # metal: fuzz; dielectric: index of refraction
+    color: tuple          # albedo, or emitted radiance; phong: 0..255 colour
+    param: float = 0.0    # metal: fuzz; dielectric: ior; phong: specular exponent
     name: str | None = None
+    reflective: float = 0.0   # phong only: the mirror's share, in [0, 1]
 
 
 @_checked("lambertian")
@@ -74,7 +75,20 @@ def diffuse_light(emit, *, name=None):
     return Material(DIFFUSE_LIGHT, fields.color(emit, "emit"), 0.0, name)
 
 
-MATERIALS = {f.kind: f for f in (lambertian, metal, dielectric, diffuse_light)}
+@_checked("phong")
+def phong(color, specular=-1, reflective=0.0, *, name=None):
+    """Computer Graphics from Scratch's material (classic integrator only):
+    a 0..255 colour, a Phong exponent (-1: matte) and a mirror share."""
+    specular = fields.number(specular, "specular")
+    if specular < 0 and specular != -1:
+        raise FieldError("specular", f"must be -1 (matte) or >= 0, got {specular:g}")
+    return Material(PHONG, fields.color(color, "color", hi=255.0), specular, name,
+                    fields.number(reflective, "reflective", lo=0.0, hi=1.0))
+
+
+MATERIALS = {f.kind: f for f in (lambertian, metal, dielectric, diffuse_light, phong)}
+MATERIAL_NAMES = {LAMBERTIAN: "lambertian", METAL: "metal", DIELECTRIC: "dielectric",
+                  DIFFUSE_LIGHT: "diffuse_light", PHONG: "phong"}
 
 
 def _material(value):

@@ -14,6 +14,7 @@ LAMBERTIAN = 0
 METAL = 1
 DIELECTRIC = 2
 DIFFUSE_LIGHT = 3
+PHONG = 4            # the classic ray tracer's material (classic.py)
 
 # Background kinds.
 BG_COLOR = 0

@@ -89,7 +89,8 @@ def test_a_scene_declares_only_what_it_uses(tmp_path):
     assert (cam.lookfrom, cam.lookat, cam.vup, cam.vfov) == ((0, 0, 0), (0, 0, -1),
                                                             (0, 1, 0), 90)
     assert cam.focus_dist == 1.0 and cam.aperture == 0.0
-    assert (scene.spp, scene.max_depth, scene.background) == (100, 50, (0.0, 0.0, 0.0))
+    assert (scene.spp, scene.resolved_max_depth(), scene.resolved_background()) == \
+        (100, 50, (0.0, 0.0, 0.0))
     assert scene.name == "tiny" and scene.lights == []
 
 

@@ -80,7 +80,7 @@ def _scaled(scene, s):
             g = tuple(s * c for c in g)
         return dataclasses.replace(o, geometry=g, offset=tuple(s * c for c in o.offset))
     objects = [shape(o) for o in scene.objects]
-    lights = [objects[scene.objects.index(l)] for l in scene.lights]
+    lights = [objects[scene.objects.index(light)] for light in scene.lights]
     cam = scene.camera
     camera = dataclasses.replace(cam, lookfrom=tuple(s * c for c in cam.lookfrom),
                                  lookat=tuple(s * c for c in cam.lookat),
@@ -188,5 +188,7 @@ def test_extreme_legal_fields_of_view_render(vfov):
 
 @pytest.mark.parametrize("name", sorted(rt.bundled_scenes()))
 def test_bundled_scenes_drop_no_samples(name):
-    r = rt.render(rt.load_scene(name), spp=4, width=40, height=24, seed=9)
-    assert r.stats.nan_dropped == 0
+    scene = rt.load_scene(name)
+    budget = {} if scene.resolved_integrator() == "classic" else dict(spp=4, seed=9)
+    r = rt.render(scene, width=40, height=24, **budget)
+    assert r.stats.nan_dropped == 0 and np.isfinite(r.image).all()
