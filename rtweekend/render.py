@@ -8,6 +8,7 @@ splitting the samples into passes.
 import math
 import time as _time
 from contextlib import contextmanager
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -21,6 +22,7 @@ from .path import trace
 from .progress import Progress, StopOnInterrupt
 from .result import RenderResult, RenderStats, firefly_stats, mean_and_stderr
 from .rows import interleaved_rows
+from .scene import SceneArrays
 
 SAMPLING = {"cosine": 0.0, "mixture": 0.5, "light": 1.0}
 PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
@@ -30,16 +32,22 @@ PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
 BINS_PER_OCTAVE = 16
 LOG2_LOWEST = -24.0
 HIST_BINS = 64 * BINS_PER_OCTAVE
+# Samples summed on their own before joining the image's sums (see render_pass).
+BLOCK_SPP = 16
 
 
 @jit_parallel
-def render_pass(accum, accum2, valid, row_stats, hist_n, hist_e, rows, s0, s1, seed, cam,
-                width, height, obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i, mat_f,
-                lights, bg_kind, bg, max_depth, light_weight, clamp):
+def render_pass(accum, accum2, partial, partial2, valid, row_stats, hist_n, hist_e, rows,
+                s0, s1, seed, cam, width, height, obj_i, obj_f, bvh_box, bvh_node,
+                bvh_prims, mat_i, mat_f, lights, bg_kind, bg, max_depth, light_weight,
+                clamp):
     """Add samples s0..s1-1 of every pixel; rows[k] spreads the work over threads.
 
-    accum/accum2 sum each sample's radiance and its square (for the standard
-    error); row_stats[y] += (ray segments traced, samples dropped as NaN/Inf);
+    Radiance and its square (for the standard error) are summed per block of
+    BLOCK_SPP samples into partial/partial2, which is added to accum/accum2
+    when the block is complete: so the sums depend only on the sample indices,
+    never on how passes, threads or machines split the work.
+    row_stats[y] += (ray segments traced, samples dropped as NaN/Inf);
     hist_n/hist_e[y] count and sum the samples by value, for the firefly stats.
     clamp (inf: none) caps each sample's channels -- biased, but tames fireflies.
     """
@@ -56,23 +64,29 @@ def render_pass(accum, accum2, valid, row_stats, hist_n, hist_e, rows, s0, s1, s
                                     mat_f, lights, bg_kind, bg, max_depth, light_weight,
                                     o, d, state)
                 segments += n
-                if not math.isfinite(c[0] + c[1] + c[2]):
+                if math.isfinite(c[0] + c[1] + c[2]):
+                    r, g, b = min(c[0], clamp), min(c[1], clamp), min(c[2], clamp)
+                    partial[y, x, 0] += r
+                    partial[y, x, 1] += g
+                    partial[y, x, 2] += b
+                    partial2[y, x, 0] += r * r
+                    partial2[y, x, 1] += g * g
+                    partial2[y, x, 2] += b * b
+                    valid[y, x] += 1
+                    v = (r + g + b) / 3.0
+                    if v > 0.0:
+                        i = int((math.log2(v) - LOG2_LOWEST) * BINS_PER_OCTAVE)
+                        i = min(max(i, 0), HIST_BINS - 1)
+                        hist_n[y, i] += 1
+                        hist_e[y, i] += v
+                else:
                     dropped += 1
-                    continue
-                r, g, b = min(c[0], clamp), min(c[1], clamp), min(c[2], clamp)
-                accum[y, x, 0] += r
-                accum[y, x, 1] += g
-                accum[y, x, 2] += b
-                accum2[y, x, 0] += r * r
-                accum2[y, x, 1] += g * g
-                accum2[y, x, 2] += b * b
-                valid[y, x] += 1
-                v = (r + g + b) / 3.0
-                if v > 0.0:
-                    i = int((math.log2(v) - LOG2_LOWEST) * BINS_PER_OCTAVE)
-                    i = min(max(i, 0), HIST_BINS - 1)
-                    hist_n[y, i] += 1
-                    hist_e[y, i] += v
+                if (s + 1) % BLOCK_SPP == 0:
+                    for ch in range(3):
+                        accum[y, x, ch] += partial[y, x, ch]
+                        accum2[y, x, ch] += partial2[y, x, ch]
+                        partial[y, x, ch] = 0.0
+                        partial2[y, x, ch] = 0.0
         row_stats[y, 0] += segments
         row_stats[y, 1] += dropped
 
@@ -112,6 +126,77 @@ def thread_count(threads):
         numba.set_num_threads(previous)
 
 
+class Frame(NamedTuple):
+    """Everything a pass needs, frozen and picklable (sent once to each worker)."""
+    arrays: SceneArrays
+    cam: np.ndarray
+    width: int
+    height: int
+    max_depth: int
+    light_weight: float
+    seed: int
+    clamp: float
+    rows: np.ndarray
+
+
+def freeze(scene, *, seed=0, width=None, height=None, max_depth=None, sampling="mixture",
+           bvh=None, clamp=None):
+    """The Frame for rendering `scene` with these options (SceneError if bad)."""
+    check_options(seed=seed, sampling=sampling, max_depth=max_depth, clamp=clamp)
+    changes = {k: v for k, v in (("width", width), ("height", height)) if v is not None}
+    if changes:
+        scene = scene.with_camera(**changes)
+    arrays = scene.arrays(bvh=bvh)
+    camera = scene.resolved_camera()
+    return Frame(arrays=arrays, cam=camera.array(), width=camera.width,
+                 height=camera.height,
+                 max_depth=max_depth if max_depth is not None else scene.resolved_max_depth(),
+                 light_weight=SAMPLING[sampling] if len(arrays.lights) else 0.0,
+                 seed=seed, clamp=math.inf if clamp is None else float(clamp),
+                 rows=interleaved_rows(camera.height))
+
+
+class Sums:
+    """The running sums of an image, or of one block of its samples."""
+    FIELDS = ("accum", "accum2", "partial", "partial2", "valid", "row_stats", "hist_n",
+              "hist_e")
+
+    def __init__(self, height, width):
+        self.accum = np.zeros((height, width, 3))
+        self.accum2 = np.zeros((height, width, 3))
+        self.partial = np.zeros((height, width, 3))      # the unfinished block
+        self.partial2 = np.zeros((height, width, 3))
+        self.valid = np.zeros((height, width), dtype=np.int64)
+        self.row_stats = np.zeros((height, 2), dtype=np.int64)
+        self.hist_n = np.zeros((height, HIST_BINS), dtype=np.int64)
+        self.hist_e = np.zeros((height, HIST_BINS))
+
+    def add(self, other):
+        """Merge the sums of the next block(s): with the blocks merged in order
+        the image is bit-identical to rendering them here, in one process."""
+        for name in self.FIELDS:
+            getattr(self, name).__iadd__(getattr(other, name))
+
+
+def render_samples(frame, sums, s0, s1):
+    """Add samples s0 .. s1 - 1 of every pixel to `sums`."""
+    a = frame.arrays
+    render_pass(sums.accum, sums.accum2, sums.partial, sums.partial2, sums.valid,
+                sums.row_stats, sums.hist_n, sums.hist_e, frame.rows, s0, s1, frame.seed,
+                frame.cam, frame.width, frame.height, a.obj_i, a.obj_f, a.bvh_box,
+                a.bvh_node, a.bvh_prims, a.mat_i, a.mat_f, a.lights, a.bg_kind, a.bg,
+                frame.max_depth, frame.light_weight, frame.clamp)
+
+
+def block_sums(frame, s0, s1):
+    """Fresh sums of samples s0 .. s1 - 1, s0 on a block boundary (for workers)."""
+    if s0 % BLOCK_SPP:
+        raise ValueError(f"block_sums: s0 = {s0} is not a multiple of {BLOCK_SPP}")
+    sums = Sums(frame.height, frame.width)
+    render_samples(frame, sums, s0, s1)
+    return sums
+
+
 class Renderer:
     """One image being rendered: the frozen scene and the running sums.
 
@@ -121,70 +206,44 @@ class Renderer:
         image, stats = r.result()
     """
 
-    def __init__(self, scene, *, seed=0, width=None, height=None, max_depth=None,
-                 sampling="mixture", bvh=None, clamp=None):
-        check_options(seed=seed, sampling=sampling, max_depth=max_depth, clamp=clamp)
-        changes = {k: v for k, v in (("width", width), ("height", height)) if v is not None}
-        if changes:
-            scene = scene.with_camera(**changes)
-        self.scene = scene
-        self.arrays = scene.arrays(bvh=bvh)
-        camera = scene.resolved_camera()
-        self.cam = camera.array()
-        self.width, self.height = camera.width, camera.height
-        self.max_depth = max_depth if max_depth is not None else scene.resolved_max_depth()
-        self.light_weight = SAMPLING[sampling] if len(self.arrays.lights) else 0.0
-        self.seed = seed
-        self.clamp = math.inf if clamp is None else float(clamp)
-        h, w = self.height, self.width
-        self.accum = np.zeros((h, w, 3))
-        self.accum2 = np.zeros((h, w, 3))
-        self.valid = np.zeros((h, w), dtype=np.int64)
-        self.row_stats = np.zeros((h, 2), dtype=np.int64)
-        self.hist_n = np.zeros((h, HIST_BINS), dtype=np.int64)
-        self.hist_e = np.zeros((h, HIST_BINS))
-        self.rows = interleaved_rows(h)
+    def __init__(self, scene, **options):
+        self.frame = freeze(scene, **options)
+        self.width, self.height = self.frame.width, self.frame.height
+        self.sums = Sums(self.height, self.width)
         self.spp = 0               # samples per pixel so far
         self.seconds = 0.0         # time spent in passes
         self.compile_seconds = 0.0
 
-    def _run(self, s0, s1):
-        a = self.arrays
-        render_pass(self.accum, self.accum2, self.valid, self.row_stats, self.hist_n,
-                    self.hist_e, self.rows, s0, s1, self.seed, self.cam, self.width,
-                    self.height, a.obj_i, a.obj_f, a.bvh_box, a.bvh_node, a.bvh_prims,
-                    a.mat_i, a.mat_f, a.lights, a.bg_kind, a.bg, self.max_depth,
-                    self.light_weight, self.clamp)
-
     def compile(self):
         """Compile the kernel (or load it from the cache) with no samples."""
         t0 = _time.perf_counter()
-        self._run(0, 0)
+        render_samples(self.frame, self.sums, 0, 0)
         self.compile_seconds = _time.perf_counter() - t0
         return self.compile_seconds
 
     def add_samples(self, n):
         """Render samples spp .. spp + n - 1 of every pixel; returns the seconds."""
         t0 = _time.perf_counter()
-        self._run(self.spp, self.spp + n)
+        render_samples(self.frame, self.sums, self.spp, self.spp + n)
         dt = _time.perf_counter() - t0
         self.spp += n
         self.seconds += dt
         return dt
 
     def result(self, *, spp_requested=None, interrupted=False, threads=None):
-        image, stderr = mean_and_stderr(self.accum, self.accum2, self.valid)
+        s = self.sums
+        image, stderr = mean_and_stderr(s.accum + s.partial, s.accum2 + s.partial2, s.valid)
         fireflies, firefly_energy = firefly_stats(
-            self.hist_n.sum(axis=0), self.hist_e.sum(axis=0), float(image.mean()),
+            s.hist_n.sum(axis=0), s.hist_e.sum(axis=0), float(image.mean()),
             LOG2_LOWEST, BINS_PER_OCTAVE)
         stats = RenderStats(
             width=self.width, height=self.height, spp=self.spp,
             spp_requested=spp_requested, seconds=self.seconds,
             compile_seconds=self.compile_seconds, samples=self.width * self.height * self.spp,
-            rays=int(self.row_stats[:, 0].sum()), nan_dropped=int(self.row_stats[:, 1].sum()),
+            rays=int(s.row_stats[:, 0].sum()), nan_dropped=int(s.row_stats[:, 1].sum()),
             interrupted=interrupted, threads=threads or numba.get_num_threads(),
-            seed=self.seed, fireflies=fireflies, firefly_energy=firefly_energy,
-            clamp=None if math.isinf(self.clamp) else self.clamp)
+            seed=self.frame.seed, fireflies=fireflies, firefly_energy=firefly_energy,
+            clamp=None if math.isinf(self.frame.clamp) else self.frame.clamp)
         return RenderResult(image, stats, stderr)
 
 

@@ -147,7 +147,8 @@ class Scene:
                             "spheres only)")
         for light in self.lights:
             if isinstance(light, ClassicLight):
-                classic.append(f"it has a {light.kind} light")
+                article = "an" if light.kind[0] in "aeiou" else "a"
+                classic.append(f"it has {article} {light.kind} light")
             else:
                 path.append(f"it has an area light ({_label(light.kind, light.name)})")
         if isinstance(self.camera, ClassicCamera):
