@@ -8,7 +8,7 @@ import math
 import numpy as np
 
 from . import rng
-from .jit import jit
+from .jit import jit_inline
 
 # cam[0:3] origin, [3:6] upper-left corner of the viewport on the focus plane,
 # [6:9] viewport width vector, [9:12] viewport height vector (up),
@@ -33,7 +33,7 @@ def camera_array(lookfrom, lookat, vup, vfov, aperture, focus_dist, width, heigh
                            [aperture / 2.0]])
 
 
-@jit
+@jit_inline
 def get_ray(cam, x, y, width, height, state):
     """(origin, unit direction, state) of a jittered ray through pixel (x, y)."""
     jx, state = rng.uniform(state)

@@ -9,7 +9,7 @@ weight = attenuation.  max_depth counts ray segments, as the books' depth does.
 """
 from . import pdf
 from .hittables import INF, closest_hit, enters, face_normal, outward_normal
-from .jit import jit
+from .jit import jit, jit_inline
 from .materials import dielectric_scatter, metal_scatter
 from .tags import BG_SKY, DIELECTRIC, DIFFUSE_LIGHT, METAL, NO_HIT, OBJ_MAT
 from .vec3 import madd, unit
@@ -24,7 +24,7 @@ def background(bg_kind, bg, d):
     return bg
 
 
-@jit
+@jit_inline
 def trace(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i, mat_f, lights, bg_kind, bg,
           max_depth, light_weight, o, d, state):
     """Radiance along the camera ray (o, d): (r, g, b), segments traced, state."""

@@ -17,7 +17,7 @@ from . import rng
 from .camera import get_ray
 from .classic_scene import render_classic_scene
 from .errors import SceneError
-from .jit import jit_parallel
+from .jit import jit, jit_parallel
 from .path import trace
 from .progress import Progress, StopOnInterrupt
 from .result import RenderResult, RenderStats, firefly_stats, mean_and_stderr
@@ -52,43 +52,56 @@ def render_pass(accum, accum2, partial, partial2, valid, row_stats, hist_n, hist
     clamp (inf: none) caps each sample's channels -- biased, but tames fireflies.
     """
     for k in numba.prange(rows.shape[0]):
-        y = rows[k]
-        segments = 0
-        dropped = 0
-        for x in range(width):
-            pixel = y * width + x
-            for s in range(s0, s1):
-                state = rng.seed_state(pixel, s, seed)
-                o, d, state = get_ray(cam, x, y, width, height, state)
-                c, n, state = trace(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i,
-                                    mat_f, lights, bg_kind, bg, max_depth, light_weight,
-                                    o, d, state)
-                segments += n
-                if math.isfinite(c[0] + c[1] + c[2]):
-                    r, g, b = min(c[0], clamp), min(c[1], clamp), min(c[2], clamp)
-                    partial[y, x, 0] += r
-                    partial[y, x, 1] += g
-                    partial[y, x, 2] += b
-                    partial2[y, x, 0] += r * r
-                    partial2[y, x, 1] += g * g
-                    partial2[y, x, 2] += b * b
-                    valid[y, x] += 1
-                    v = (r + g + b) / 3.0
-                    if v > 0.0:
-                        i = int((math.log2(v) - LOG2_LOWEST) * BINS_PER_OCTAVE)
-                        i = min(max(i, 0), HIST_BINS - 1)
-                        hist_n[y, i] += 1
-                        hist_e[y, i] += v
-                else:
-                    dropped += 1
-                if (s + 1) % BLOCK_SPP == 0:
-                    for ch in range(3):
-                        accum[y, x, ch] += partial[y, x, ch]
-                        accum2[y, x, ch] += partial2[y, x, ch]
-                        partial[y, x, ch] = 0.0
-                        partial2[y, x, ch] = 0.0
-        row_stats[y, 0] += segments
-        row_stats[y, 1] += dropped
+        render_row(rows[k], accum, accum2, partial, partial2, valid, row_stats, hist_n,
+                   hist_e, s0, s1, seed, cam, width, height, obj_i, obj_f, bvh_box,
+                   bvh_node, bvh_prims, mat_i, mat_f, lights, bg_kind, bg, max_depth,
+                   light_weight, clamp)
+
+
+@jit
+def render_row(y, accum, accum2, partial, partial2, valid, row_stats, hist_n, hist_e,
+               s0, s1, seed, cam, width, height, obj_i, obj_f, bvh_box, bvh_node,
+               bvh_prims, mat_i, mat_f, lights, bg_kind, bg, max_depth, light_weight,
+               clamp):
+    """One row of render_pass.  A separate function (called once per row) so
+    that trace and get_ray can be inlined into it: inlined into the prange
+    body itself they trip Numba's parfor analysis."""
+    segments = 0
+    dropped = 0
+    for x in range(width):
+        pixel = y * width + x
+        for s in range(s0, s1):
+            state = rng.seed_state(pixel, s, seed)
+            o, d, state = get_ray(cam, x, y, width, height, state)
+            c, n, state = trace(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i,
+                                mat_f, lights, bg_kind, bg, max_depth, light_weight,
+                                o, d, state)
+            segments += n
+            if math.isfinite(c[0] + c[1] + c[2]):
+                r, g, b = min(c[0], clamp), min(c[1], clamp), min(c[2], clamp)
+                partial[y, x, 0] += r
+                partial[y, x, 1] += g
+                partial[y, x, 2] += b
+                partial2[y, x, 0] += r * r
+                partial2[y, x, 1] += g * g
+                partial2[y, x, 2] += b * b
+                valid[y, x] += 1
+                v = (r + g + b) / 3.0
+                if v > 0.0:
+                    i = int((math.log2(v) - LOG2_LOWEST) * BINS_PER_OCTAVE)
+                    i = min(max(i, 0), HIST_BINS - 1)
+                    hist_n[y, i] += 1
+                    hist_e[y, i] += v
+            else:
+                dropped += 1
+            if (s + 1) % BLOCK_SPP == 0:
+                for ch in range(3):
+                    accum[y, x, ch] += partial[y, x, ch]
+                    accum2[y, x, ch] += partial2[y, x, ch]
+                    partial[y, x, ch] = 0.0
+                    partial2[y, x, ch] = 0.0
+    row_stats[y, 0] += segments
+    row_stats[y, 1] += dropped
 
 
 def check_options(*, spp=None, time=None, threads=None, seed=0, sampling="mixture",
