@@ -23,3 +23,18 @@ def test_accuracy_benchmark_quick(tmp_path):
     assert "not independent" in data["scenes"]["cornell_glass"]["reference"]
     for name in ("accuracy.png", "accuracy_crops.png"):
         assert (tmp_path / name).stat().st_size > 10_000
+
+
+def test_throughput_benchmark_quick(tmp_path):
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "throughput.py"), "--quick",
+                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    data = json.loads((tmp_path / "throughput.json").read_text())
+    glass = data["scenes"]["cornell_glass"]
+    assert glass["1_thread"]["samples_per_s"] > 0 and glass["all_threads"]["samples_per_s"] > 0
+    assert glass["mean_path_length"] >= 1 and glass["peak_rss_mb"] > 0
+    assert data["scenes"]["cgfs"]["integrator"] == "classic"
+    assert data["compile"]["cached"]["total_s"] > 0
+    assert set(data["verdict"]) == set(data["targets"])
+    assert data["weekend_bvh"]["speedup"] > 0
+    assert (tmp_path / "throughput.png").stat().st_size > 10_000
