@@ -78,16 +78,24 @@ def light_value_one(obj_i, obj_f, k, p, d, from_obj, from_inside):
     0 when d misses the light, so the mixture never divides by a density that
     a component could not have produced.
     """
-    t = object_t(obj_i, obj_f, k, p, d, INF, from_obj, from_inside)
-    if t == INF:
-        return 0.0
-    if obj_i[k, OBJ_KIND] == SPHERE:
+    if obj_i[k, OBJ_KIND] == SPHERE and k != from_obj:
         w = (obj_f[k, 0] - p[0], obj_f[k, 1] - p[1], obj_f[k, 2] - p[2])
         dist2 = dot(w, w)
         r2 = obj_f[k, 4]
         if dist2 <= r2:
-            return INV_4PI
+            return INV_4PI          # from inside every direction hits it
+        # From outside, d hits the sphere iff it lies in the cone of half-angle
+        # theta_max about w: d.w >= |w| cos(theta_max) = sqrt(dist2 - r2), i.e.
+        # the quadratic's discriminant test, without solving it.
+        b = dot(d, w)
+        if b <= 0.0 or b * b < dist2 - r2:
+            return 0.0
         return 1.0 / (rng.TWO_PI * _one_minus_cos_theta_max(r2, dist2))
+    t = object_t(obj_i, obj_f, k, p, d, INF, from_obj, from_inside)
+    if t == INF:
+        return 0.0
+    if obj_i[k, OBJ_KIND] == SPHERE:    # leaving this very sphere light, inward
+        return INV_4PI
     n = (obj_f[k, 9], obj_f[k, 10], obj_f[k, 11])
     cosine = abs(dot(n, d))
     return t * t / (cosine * obj_f[k, 19])
