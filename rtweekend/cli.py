@@ -1,6 +1,7 @@
 """The `rtweekend` command: a thin layer over the Python API.
 
     rtweekend render [SCENE] [-o OUT] [--spp N | --time S] [--width W] ...
+                     [--scheduler ADDRESS | --workers N]
     rtweekend scenes
 
 Bad input is reported in one line on stderr with exit status 2.
@@ -84,12 +85,19 @@ def build_parser():
     r.add_argument("--max-depth", type=_depth, help="ray segments per path (default: "
                    "the scene's, 50 in the books); for a classic scene, the reflections "
                    "followed (3 in the book, 0 allowed)")
-    r.add_argument("--threads", type=_positive_int, help="worker threads (default: all)")
+    r.add_argument("--threads", type=_positive_int, help="threads of a local render "
+                   "(default: all cores)")
     r.add_argument("--sampling", choices=("mixture", "cosine", "light"),
                    help="diffuse sampling: the books' 0.5/0.5 mixture (default), cosine "
                    "only, or lights only")
     r.add_argument("--clamp", type=_positive_number, metavar="X", help="cap every sample's "
                    "channels at X: fewer fireflies, but BIASED (darker); off by default")
+    cluster = r.add_mutually_exclusive_group()
+    cluster.add_argument("--scheduler", metavar="ADDRESS", help="render on the Dask cluster "
+                         "of this scheduler (tcp://HOST:8786); same image as here. Needs "
+                         "pip install 'rtweekend[dask]'")
+    cluster.add_argument("--workers", type=_positive_int, metavar="N", help="render on a "
+                         "local Dask cluster of N single-threaded worker processes")
     r.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     sub.add_parser("scenes", help="list the bundled scenes",
                    description="List the bundled scenes with a line about each.")
@@ -117,6 +125,7 @@ def _scenes():
 
 
 def _render(args):
+    from .distributed import dask_client
     from .image import check_output_path, save_image
     from .render import render
     from .scenefile import load_scene
@@ -124,18 +133,25 @@ def _render(args):
     scene = load_scene(args.scene)
     output = Path(args.output) if args.output else Path(f"{scene.name}.png")
     check_output_path(output)            # before spending minutes on the render
-    result = render(scene, spp=args.spp, time=args.time, seed=args.seed,
-                    width=args.width, height=args.height, max_depth=args.max_depth,
-                    threads=args.threads, sampling=args.sampling, clamp=args.clamp,
-                    progress=not args.quiet)
+    with dask_client(scene, scheduler=args.scheduler, workers=args.workers,
+                     threads=args.threads) as client:
+        result = render(scene, spp=args.spp, time=args.time, seed=args.seed,
+                        width=args.width, height=args.height, max_depth=args.max_depth,
+                        threads=args.threads, sampling=args.sampling, clamp=args.clamp,
+                        progress=not args.quiet, client=client)
     stats = result.stats
+    if stats.spp == 0:
+        print(f"rtweekend: {stats.stopped_by or 'stopped'} before the first samples; "
+              "nothing written", file=sys.stderr)
+        return EXIT_INTERRUPTED
     try:
         save_image(result, output)
     except OSError as e:
         raise SceneError(f"{output}: cannot write: {e.strerror or e}") from None
     print(f"{output}: {stats.summary()}")
     if stats.interrupted:
-        print(f"rtweekend: interrupted; {output} holds the {stats.spp} spp rendered",
+        why = "interrupted" if stats.stopped_by in (None, "Ctrl-C") else stats.stopped_by
+        print(f"rtweekend: {why}; {output} holds the {stats.spp} spp rendered",
               file=sys.stderr)
         return EXIT_INTERRUPTED
     return 0

@@ -33,6 +33,10 @@ def _source_digest():
     return h.hexdigest()[:16]
 
 
+# The sources this process imported (workers of a distributed render compare it).
+SOURCE_DIGEST = _source_digest()
+
+
 def _cache_dir():
     """$NUMBA_CACHE_DIR, else the user's cache folder; a subfolder per source hash.
 
@@ -41,7 +45,7 @@ def _cache_dir():
     base = config.CACHE_DIR or os.path.join(
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
         "rtweekend")
-    path = os.path.join(base, f"numba-{_source_digest()}")
+    path = os.path.join(base, f"numba-{SOURCE_DIGEST}")
     try:
         os.makedirs(path, exist_ok=True)
     except OSError:

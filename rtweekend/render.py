@@ -243,7 +243,7 @@ class Renderer:
         self.seconds += dt
         return dt
 
-    def result(self, *, spp_requested=None, interrupted=False, threads=None):
+    def result(self, *, spp_requested=None, interrupted=False, threads=None, stopped_by=None):
         s = self.sums
         image, stderr = mean_and_stderr(s.accum + s.partial, s.accum2 + s.partial2, s.valid)
         fireflies, firefly_energy = firefly_stats(
@@ -256,13 +256,14 @@ class Renderer:
             rays=int(s.row_stats[:, 0].sum()), nan_dropped=int(s.row_stats[:, 1].sum()),
             interrupted=interrupted, threads=threads or numba.get_num_threads(),
             seed=self.frame.seed, fireflies=fireflies, firefly_energy=firefly_energy,
-            clamp=None if math.isinf(self.frame.clamp) else self.frame.clamp)
+            clamp=None if math.isinf(self.frame.clamp) else self.frame.clamp,
+            stopped_by=stopped_by if interrupted else None)
         return RenderResult(image, stats, stderr)
 
 
 def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
            max_depth=None, threads=None, sampling=None, progress=False, bvh=None,
-           clamp=None):
+           clamp=None, client=None):
     """Render `scene`; returns RenderResult, which unpacks as (image, stats).
 
     A classic (Computer Graphics from Scratch) scene is ray traced once per
@@ -278,7 +279,14 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     clamp: cap every sample's channels at this value (biased: it removes energy;
     off by default).  Ctrl-C finishes the current pass and returns what was rendered
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt.
+    client: a dask.distributed Client: render blocks of samples on its workers
+    instead, bit-identical to rendering here (rtweekend.distributed).
     """
+    if client is not None:
+        from .distributed import render_distributed
+        return render_distributed(client, scene, spp, seed=seed, time=time, width=width,
+                                  height=height, max_depth=max_depth, threads=threads,
+                                  sampling=sampling, progress=progress, bvh=bvh, clamp=clamp)
     if scene.resolved_integrator() == "classic":
         return _render_classic(scene, spp=spp, time=time, width=width, height=height,
                                max_depth=max_depth, threads=threads, sampling=sampling,
@@ -307,7 +315,8 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
                     break
     finally:
         report.close()
-    return renderer.result(spp_requested=spp, interrupted=interrupted, threads=used)
+    return renderer.result(spp_requested=spp, interrupted=interrupted, threads=used,
+                           stopped_by="Ctrl-C")
 
 
 def _render_classic(scene, *, width, height, max_depth, threads, **path_options):

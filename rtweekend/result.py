@@ -18,13 +18,14 @@ class RenderStats:
     samples: int
     rays: int                # path segments traced
     nan_dropped: int         # samples that were NaN/Inf and left out of the mean
-    interrupted: bool
+    interrupted: bool        # stopped before spp_requested (see stopped_by)
     threads: int
     seed: int
     fireflies: int = 0       # samples above FIREFLY_FACTOR x the image mean
     firefly_energy: float = 0.0   # their share of the image's total energy
     clamp: float | None = None    # the (biased) cap on sample values, if any
     integrator: str = "path"      # or "classic" (one ray per pixel, no noise)
+    stopped_by: str | None = None  # why a render stopped early: "Ctrl-C", a lost cluster
 
     @property
     def samples_per_s(self):
