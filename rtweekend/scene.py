@@ -24,12 +24,12 @@ from .tags import BG_COLOR, BG_SKY, PHONG, RECT, SPHERE
 
 SKY = "sky"
 MAX_SIZE = 65536         # pixels per side, a sanity bound (65536^2 would need ~200 GB of sums)
-# From this many primitives on, the BVH beats testing every object.  Measured
-# (2 threads, samples/s, flat -> BVH): metals, 4 spheres: 2.41 -> 2.14 M;
-# random spheres on a ground sphere: 4: 4.24 -> 4.72, 6: 3.64 -> 4.56,
-# 12: 2.64 -> 4.23; cornell_box, 18 rects: 0.91 -> 1.20 M; weekend, 487
-# spheres: 0.080 -> 1.28 M.  The crossover sits near 4 objects.
-BVH_MIN_OBJECTS = 6
+# From this many primitives on, the BVH beats testing every object (whose loop
+# Numba compiles tightly).  Measured, one thread, flat -> BVH, samples/s:
+# metals (4 spheres) 2.25 -> 1.76 M; random spheres (benchmarks/throughput.py)
+# 10: 0.17 -> 0.19 us/sample, 30: equal, 100: 0.55 -> 0.30; cornell_glass (13
+# rects and a sphere) 0.59 -> 0.64 M; cornell_box (18) 0.96 -> 1.16 M.
+BVH_MIN_OBJECTS = 12
 
 
 @dataclass(frozen=True)

@@ -3,6 +3,7 @@ import json
 import subprocess
 import sys
 
+import pytest
 from conftest import REPO
 
 
@@ -38,3 +39,14 @@ def test_throughput_benchmark_quick(tmp_path):
     assert set(data["verdict"]) == set(data["targets"])
     assert data["weekend_bvh"]["speedup"] > 0
     assert (tmp_path / "throughput.png").stat().st_size > 10_000
+
+
+def test_dask_overhead_benchmark_quick(tmp_path):
+    pytest.importorskip("distributed", reason="needs Dask: pip install 'rtweekend[dask]'")
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "dask_overhead.py"),
+                        "--quick", "--out", str(tmp_path)], capture_output=True, text=True,
+                       timeout=600)
+    assert r.returncode == 0, r.stderr
+    data = json.loads((tmp_path / "distributed.json").read_text())
+    assert [row["spp"] for row in data["rows"]] == [20, 40]
+    assert all(row["identical"] for row in data["rows"])

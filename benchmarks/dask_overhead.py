@@ -1,6 +1,6 @@
 """The cost of rendering on Dask: a LocalCluster of 2 workers against the local render.
 
-    pip install '.[dask]' && python benchmarks/distributed.py
+    pip install '.[dask]' && python benchmarks/dask_overhead.py
 
 cornell_glass at 600x600, 100 and 1000 spp: the local render with 2 Numba
 threads, then the same image on a LocalCluster of 2 single-threaded worker
@@ -29,17 +29,13 @@ import tempfile
 import time
 from pathlib import Path
 
-# This file is called distributed.py: its folder, first on sys.path when it runs
-# as a script, would shadow Dask's `distributed`.  Look there last.
-HERE = Path(__file__).resolve().parent
-sys.path[:] = [p for p in sys.path if Path(p or ".").resolve() != HERE] + [str(HERE)]
+import numpy as np
 
-import numpy as np  # noqa: E402
+import rtweekend as rt
+from rtweekend.distributed import THREADS_VAR, dask_client
+from rtweekend.render import BLOCK_SPP
 
-import rtweekend as rt  # noqa: E402
-from rtweekend.distributed import THREADS_VAR, dask_client  # noqa: E402
-from rtweekend.render import BLOCK_SPP  # noqa: E402
-
+sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import RESULTS, machine, save_json  # noqa: E402
 
 SCENE = "cornell_glass"
