@@ -14,7 +14,6 @@ Writes results/accuracy.json, results/accuracy.png (log-log error vs seconds,
 one line per strategy) and results/accuracy_crops.png (equal-time crops).
 --quick runs a tiny version (seconds) to check that the script works.
 """
-import argparse
 import math
 import sys
 import time
@@ -26,7 +25,8 @@ import rtweekend as rt
 from rtweekend.image import tonemap
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from common import RESULTS, machine, mitsuba_reference, save_json  # noqa: E402
+from common import machine, mitsuba_reference, save_json  # noqa: E402
+from common import parser as bench_parser  # noqa: E402
 
 STRATEGIES = ("cosine", "light", "mixture")
 COLORS = {"cosine": "tab:blue", "light": "tab:red", "mixture": "tab:green"}
@@ -167,9 +167,7 @@ def crop_chart(images, path):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="tiny run to check the script")
-    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder")
+    parser = bench_parser(__doc__)
     args = parser.parse_args(argv)
     config = QUICK if args.quick else FULL
     start = time.perf_counter()

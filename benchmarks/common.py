@@ -1,4 +1,5 @@
 """Shared by the benchmark scripts: where results go and what machine made them."""
+import argparse
 import datetime
 import json
 import os
@@ -45,3 +46,11 @@ def mitsuba_reference():
     """Mitsuba 3's 8192-spp cornell_box at 300x300: (radiance, stderr)."""
     with np.load(REFERENCE) as f:
         return f["radiance"].astype(np.float64), f["stderr"].astype(np.float64)
+
+
+def parser(doc):
+    """The options every benchmark has: --quick (a tiny run) and --out (a folder)."""
+    p = argparse.ArgumentParser(description=doc.split("\n\n")[0])
+    p.add_argument("--quick", action="store_true", help="tiny run to check the script")
+    p.add_argument("--out", type=Path, default=RESULTS, help="output folder")
+    return p

@@ -20,7 +20,6 @@ Writes results/distributed.json and prints a table.  --quick runs a tiny
 version (seconds) to check that the script works; --cold-start adds the
 cold-start measurement to it (about a minute: a compile).
 """
-import argparse
 import logging
 import os
 import subprocess
@@ -36,7 +35,8 @@ from rtweekend.distributed import THREADS_VAR, dask_client
 from rtweekend.render import BLOCK_SPP
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from common import RESULTS, machine, save_json  # noqa: E402
+from common import machine, save_json  # noqa: E402
+from common import parser as bench_parser  # noqa: E402
 
 SCENE = "cornell_glass"
 SEED = 7
@@ -134,11 +134,9 @@ def import_seconds():
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="tiny run to check the script")
+    parser = bench_parser(__doc__)
     parser.add_argument("--cold-start", action="store_true",
                         help="with --quick: measure the workers' cold start too")
-    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder")
     args = parser.parse_args(argv)
     cfg = QUICK if args.quick else FULL
     scene = rt.load_scene(SCENE)
