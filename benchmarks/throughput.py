@@ -29,7 +29,8 @@ import numpy as np
 import rtweekend as rt
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from common import RESULTS, machine, save_json  # noqa: E402
+from common import machine, save_json  # noqa: E402
+from common import parser as bench_parser  # noqa: E402
 
 # (scene, spp per timed run); sizes are the scenes' own.
 FULL = dict(scenes={"cornell_glass": 4, "cornell_box": 4, "metals": 16, "weekend": 2,
@@ -87,26 +88,36 @@ def one_scene(name, spp, runs, size=None):
     return out
 
 
-def _run_child(args, env=None):
-    t0 = time.perf_counter()
+def _run_child(args):
+    """This script in a fresh process (--one SCENE ...), for one scene's own RSS."""
     r = subprocess.run([sys.executable, __file__, *args], capture_output=True, text=True,
-                       env={**os.environ, **(env or {})}, timeout=1800)
+                       timeout=1800)
     if r.returncode:
         raise RuntimeError(f"child {args} failed:\n{r.stderr}")
-    return json.loads(r.stdout.strip().splitlines()[-1]), time.perf_counter() - t0
+    return json.loads(r.stdout.strip().splitlines()[-1])
 
 
-def first_image(scene):
-    """Child: import rtweekend and render a tiny image; report the times."""
-    t0 = time.perf_counter()
-    import rtweekend
-    t1 = time.perf_counter()
-    scene = rtweekend.load_scene(scene)
-    budget = {} if scene.resolved_integrator() == "classic" else {"spp": 1}
-    r = rtweekend.render(scene, width=8, height=8, **budget)
-    t2 = time.perf_counter()
-    return dict(import_s=t1 - t0, first_image_s=t2 - t1, total_s=t2 - t0,
-                compile_s=r.stats.compile_seconds)
+FIRST_IMAGE = """
+import json, sys, time
+t0 = time.perf_counter()
+import rtweekend
+t1 = time.perf_counter()
+scene = rtweekend.load_scene(sys.argv[1])
+budget = {} if scene.resolved_integrator() == "classic" else {"spp": 1}
+r = rtweekend.render(scene, width=8, height=8, **budget)
+t2 = time.perf_counter()
+print(json.dumps(dict(import_s=t1 - t0, first_image_s=t2 - t1, total_s=t2 - t0,
+                      compile_s=r.stats.compile_seconds)))
+"""
+
+
+def first_image(scene, env=None):
+    """A fresh interpreter: import rtweekend, render a tiny image; the times."""
+    r = subprocess.run([sys.executable, "-c", FIRST_IMAGE, scene], capture_output=True,
+                       text=True, env={**os.environ, **(env or {})}, timeout=1800)
+    if r.returncode:
+        raise RuntimeError(f"first image of {scene} failed:\n{r.stderr}")
+    return json.loads(r.stdout.strip().splitlines()[-1])
 
 
 def compile_times(cold=True):
@@ -115,15 +126,13 @@ def compile_times(cold=True):
     cold=False (--quick) measures the cached start only, in the user's cache.
     """
     if not cold:
-        cached, _ = _run_child(["--first-image", "cornell_glass"])
-        return dict(cold=None, cached=cached)
+        return dict(cold=None, cached=first_image("cornell_glass"))
     with tempfile.TemporaryDirectory() as cache:
         env = {"NUMBA_CACHE_DIR": cache}
-        cold, _ = _run_child(["--first-image", "cornell_glass"], env)
-        cached, _ = _run_child(["--first-image", "cornell_glass"], env)
-        cached_threads, _ = _run_child(["--first-image", "cornell_glass"],
-                                       {**env, "NUMBA_NUM_THREADS": "1"})
-        classic_cold, _ = _run_child(["--first-image", "cgfs"], env)
+        cold = first_image("cornell_glass", env)
+        cached = first_image("cornell_glass", env)
+        cached_threads = first_image("cornell_glass", {**env, "NUMBA_NUM_THREADS": "1"})
+        classic_cold = first_image("cgfs", env)
     return dict(cold=cold, cached=cached, cached_other_thread_count=cached_threads,
                 classic_cold=classic_cold)
 
@@ -204,17 +213,11 @@ def chart(data, path):
 
 
 def main(argv=None):
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--quick", action="store_true", help="tiny run to check the script")
-    parser.add_argument("--out", type=Path, default=RESULTS, help="output folder")
+    parser = bench_parser(__doc__)
     parser.add_argument("--one", nargs=3, metavar=("SCENE", "SPP", "RUNS"),
                         help=argparse.SUPPRESS)
     parser.add_argument("--size", nargs=2, type=int, help=argparse.SUPPRESS)
-    parser.add_argument("--first-image", metavar="SCENE", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
-    if args.first_image:
-        print(json.dumps(first_image(args.first_image)))
-        return
     if args.one:
         name, spp, runs = args.one
         print(json.dumps(one_scene(name, None if spp == "None" else int(spp), int(runs),
@@ -227,7 +230,7 @@ def main(argv=None):
           f"{'scaling':>7s} {'path':>5s} {'RSS MB':>7s}")
     for name, spp in cfg["scenes"].items():
         extra = ["--size", *map(str, cfg["size"])] if "size" in cfg else []
-        d, _ = _run_child(["--one", name, str(spp), str(cfg["runs"]), *extra])
+        d = _run_child(["--one", name, str(spp), str(cfg["runs"]), *extra])
         data["scenes"][name] = d
         unit = "rays" if d["integrator"] == "classic" else "samples"
         one, all_ = d["1_thread"][f"{unit}_per_s"], d["all_threads"][f"{unit}_per_s"]
