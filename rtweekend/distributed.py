@@ -31,7 +31,7 @@ from contextlib import contextmanager
 import numpy as np
 
 from .errors import SceneError
-from .jit import SOURCE_DIGEST
+from .jit import SOURCE_DIGEST, collector_paused
 from .progress import Progress, StopOnInterrupt
 from .render import BLOCK_SPP, Renderer, Sums, block_sums, check_options, render_samples
 
@@ -511,7 +511,7 @@ def warm_worker(frame):
     if "info" not in _WORKER:
         frame = _local(frame)
         t0 = _time.perf_counter()
-        with _KERNEL:
+        with _KERNEL, collector_paused():
             _numba_threads()
             render_samples(frame, Sums(frame.height, frame.width), 0, 0)
             threads = numba.get_num_threads()

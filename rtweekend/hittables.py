@@ -79,11 +79,10 @@ def object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside):
     from_inside: the ray entered from_obj's ball (only meaningful for spheres).
     """
     if obj_i[k, OBJ_KIND] == SPHERE:
-        if k == from_obj:
-            if not from_inside:
-                return INF          # leaving a convex surface outward
-            return sphere_t(obj_f, k, o, d, t_max, True)
-        return sphere_t(obj_f, k, o, d, t_max, False)
+        far_only = k == from_obj
+        if far_only and not from_inside:
+            return INF              # leaving a convex surface outward
+        return sphere_t(obj_f, k, o, d, t_max, far_only)
     if k == from_obj:
         return INF                  # a plane is never hit twice
     return rect_t(obj_f, k, o, d, t_max)
@@ -119,29 +118,31 @@ def closest_hit(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, o, d, t_max, from_ob
     described in bvh.py.
     """
     best = NO_HIT
-    if bvh_node.shape[0] == 0:
-        for k in range(obj_i.shape[0]):
-            t = object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside)
-            if t < t_max:
-                t_max = t
-                best = k
-        return best, t_max
+    # One loop for both cases, so object_t is inlined at one call site only
+    # (each inlined copy costs compile time): no BVH is a single leaf node.
+    no_bvh = bvh_node.shape[0] == 0
+    n_nodes = 1 if no_bvh else bvh_node.shape[0]
     inv_d = (_reciprocal(d[0]), _reciprocal(d[1]), _reciprocal(d[2]))
     i = 0
-    while i < bvh_node.shape[0]:
-        if _box_entry(bvh_box, i, o, inv_d, t_max):
+    while i < n_nodes:
+        if no_bvh:
+            first, count, after = 0, obj_i.shape[0], 1
+        elif _box_entry(bvh_box, i, o, inv_d, t_max):
             count = bvh_node[i, 1]
             if count == 0:
                 i += 1                      # inner node: on to its left child
                 continue
-            first = bvh_node[i, 0]
-            for j in range(first, first + count):
-                k = bvh_prims[j]
-                t = object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside)
-                if t < t_max:
-                    t_max = t
-                    best = k
-        i = bvh_node[i, 2]
+            first, after = bvh_node[i, 0], bvh_node[i, 2]
+        else:
+            i = bvh_node[i, 2]
+            continue
+        for j in range(first, first + count):
+            k = j if no_bvh else bvh_prims[j]
+            t = object_t(obj_i, obj_f, k, o, d, t_max, from_obj, from_inside)
+            if t < t_max:
+                t_max = t
+                best = k
+        i = after
     return best, t_max
 
 

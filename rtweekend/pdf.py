@@ -7,7 +7,7 @@ hit the light, whatever lies in between (occlusion is the integrator's job).
 import math
 
 from . import rng
-from .hittables import object_t, INF
+from .hittables import INF, rect_t, sphere_t
 from .jit import jit, jit_inline
 from .tags import OBJ_KIND, SPHERE
 from .vec3 import dot, local, onb, scale
@@ -44,9 +44,21 @@ def _one_minus_cos_theta_max(r2, dist2):
     return x / (1.0 + math.sqrt(1.0 - x))
 
 
+# -- all lights, chosen uniformly (the books' hittable_list pdf) -----------------
+#
+# Each light's sampling is written out inside the loop rather than in a helper
+# of its own: every level of Numba inlining copies the whole callee IR at each
+# call site, so nesting helpers here multiplied the kernel's compile time.
+
 @jit_inline
-def light_generate_one(obj_i, obj_f, k, p, state):
-    """A unit direction from p towards light k."""
+def lights_generate(obj_i, obj_f, lights, p, state):
+    """A unit direction from p towards one light chosen uniformly.
+
+    A sphere light is sampled uniformly in the cone it subtends (uniformly
+    over all directions from on or inside it); a rect uniformly in its area.
+    """
+    u, state = rng.uniform(state)
+    k = lights[min(int(u * lights.shape[0]), lights.shape[0] - 1)]
     if obj_i[k, OBJ_KIND] == SPHERE:
         w = (obj_f[k, 0] - p[0], obj_f[k, 1] - p[1], obj_f[k, 2] - p[2])
         dist2 = dot(w, w)
@@ -72,49 +84,38 @@ def light_generate_one(obj_i, obj_f, k, p, state):
 
 
 @jit_inline
-def light_value_one(obj_i, obj_f, k, p, d, from_obj, from_inside):
-    """Solid-angle density at p of direction d under light k's sampling.
-
-    0 when d misses the light, so the mixture never divides by a density that
-    a component could not have produced.
-    """
-    if obj_i[k, OBJ_KIND] == SPHERE and k != from_obj:
-        w = (obj_f[k, 0] - p[0], obj_f[k, 1] - p[1], obj_f[k, 2] - p[2])
-        dist2 = dot(w, w)
-        r2 = obj_f[k, 4]
-        if dist2 <= r2:
-            return INV_4PI          # from inside every direction hits it
-        # From outside, d hits the sphere iff it lies in the cone of half-angle
-        # theta_max about w: d.w >= |w| cos(theta_max) = sqrt(dist2 - r2), i.e.
-        # the quadratic's discriminant test, without solving it.
-        b = dot(d, w)
-        if b <= 0.0 or b * b < dist2 - r2:
-            return 0.0
-        return 1.0 / (rng.TWO_PI * _one_minus_cos_theta_max(r2, dist2))
-    t = object_t(obj_i, obj_f, k, p, d, INF, from_obj, from_inside)
-    if t == INF:
-        return 0.0
-    if obj_i[k, OBJ_KIND] == SPHERE:    # leaving this very sphere light, inward
-        return INV_4PI
-    n = (obj_f[k, 9], obj_f[k, 10], obj_f[k, 11])
-    cosine = abs(dot(n, d))
-    return t * t / (cosine * obj_f[k, 19])
-
-
-# -- all lights, chosen uniformly (the books' hittable_list pdf) -----------------
-
-@jit_inline
-def lights_generate(obj_i, obj_f, lights, p, state):
-    u, state = rng.uniform(state)
-    j = min(int(u * lights.shape[0]), lights.shape[0] - 1)
-    return light_generate_one(obj_i, obj_f, lights[j], p, state)
-
-
-@jit_inline
 def lights_value(obj_i, obj_f, lights, p, d, from_obj, from_inside):
+    """Solid-angle density at p of direction d under lights_generate.
+
+    Each light's term is 0 when d misses it, so the mixture never divides by a
+    density that a component could not have produced.
+    """
     total = 0.0
     for j in range(lights.shape[0]):
-        total += light_value_one(obj_i, obj_f, lights[j], p, d, from_obj, from_inside)
+        k = lights[j]
+        if obj_i[k, OBJ_KIND] == SPHERE:
+            if k != from_obj:
+                w = (obj_f[k, 0] - p[0], obj_f[k, 1] - p[1], obj_f[k, 2] - p[2])
+                dist2 = dot(w, w)
+                r2 = obj_f[k, 4]
+                b = dot(d, w)
+                if dist2 <= r2:
+                    total += INV_4PI    # from inside every direction hits it
+                # From outside, d hits the sphere iff it lies in the cone of
+                # half-angle theta_max about w: d.w >= |w| cos(theta_max) =
+                # sqrt(dist2 - r2), i.e. the quadratic's discriminant test,
+                # without solving it.
+                elif not (b <= 0.0 or b * b < dist2 - r2):
+                    total += 1.0 / (rng.TWO_PI * _one_minus_cos_theta_max(r2, dist2))
+            # Leaving this very sphere light: only inward, to its far side.
+            elif from_inside and sphere_t(obj_f, k, p, d, INF, True) != INF:
+                total += INV_4PI
+        elif k != from_obj:             # a rect is never hit from itself
+            t = rect_t(obj_f, k, p, d, INF)
+            if t != INF:
+                n = (obj_f[k, 9], obj_f[k, 10], obj_f[k, 11])
+                cosine = abs(dot(n, d))
+                total += t * t / (cosine * obj_f[k, 19])
     return total / lights.shape[0]
 
 

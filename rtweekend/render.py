@@ -13,27 +13,20 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
-from . import rng
-from .camera import get_ray
 from .classic_scene import render_classic_scene
 from .errors import SceneError
-from .jit import jit, jit_parallel
-from .path import trace
+from .jit import collector_paused, jit_parallel
+from .path import trace_row
 from .progress import Progress, StopOnInterrupt
 from .result import RenderResult, RenderStats, firefly_stats, mean_and_stderr
 from .rows import interleaved_rows
 from .scene import SceneArrays
+from .sums import BINS_PER_OCTAVE, BLOCK_SPP, HIST_BINS, LOG2_LOWEST, Sums
+
+__all__ = ["BLOCK_SPP", "HIST_BINS", "Renderer", "Sums", "block_sums", "render"]
 
 SAMPLING = {"cosine": 0.0, "mixture": 0.5, "light": 1.0}
 PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
-
-# Histogram of sample values (mean of r, g, b) per row, for the firefly count:
-# BINS_PER_OCTAVE bins per factor of 2, from 2**LOG2_LOWEST up.
-BINS_PER_OCTAVE = 16
-LOG2_LOWEST = -24.0
-HIST_BINS = 64 * BINS_PER_OCTAVE
-# Samples summed on their own before joining the image's sums (see render_pass).
-BLOCK_SPP = 16
 
 
 @jit_parallel
@@ -52,56 +45,11 @@ def render_pass(accum, accum2, partial, partial2, valid, row_stats, hist_n, hist
     clamp (inf: none) caps each sample's channels -- biased, but tames fireflies.
     """
     for k in numba.prange(rows.shape[0]):
-        render_row(rows[k], accum, accum2, partial, partial2, valid, row_stats, hist_n,
-                   hist_e, s0, s1, seed, cam, width, height, obj_i, obj_f, bvh_box,
-                   bvh_node, bvh_prims, mat_i, mat_f, lights, bg_kind, bg, max_depth,
-                   light_weight, clamp)
+        trace_row(rows[k], accum, accum2, partial, partial2, valid, row_stats, hist_n,
+                  hist_e, s0, s1, seed, cam, width, height, obj_i, obj_f, bvh_box,
+                  bvh_node, bvh_prims, mat_i, mat_f, lights, bg_kind, bg, max_depth,
+                  light_weight, clamp)
 
-
-@jit
-def render_row(y, accum, accum2, partial, partial2, valid, row_stats, hist_n, hist_e,
-               s0, s1, seed, cam, width, height, obj_i, obj_f, bvh_box, bvh_node,
-               bvh_prims, mat_i, mat_f, lights, bg_kind, bg, max_depth, light_weight,
-               clamp):
-    """One row of render_pass.  A separate function (called once per row) so
-    that trace and get_ray can be inlined into it: inlined into the prange
-    body itself they trip Numba's parfor analysis."""
-    segments = 0
-    dropped = 0
-    for x in range(width):
-        pixel = y * width + x
-        for s in range(s0, s1):
-            state = rng.seed_state(pixel, s, seed)
-            o, d, state = get_ray(cam, x, y, width, height, state)
-            c, n, state = trace(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, mat_i,
-                                mat_f, lights, bg_kind, bg, max_depth, light_weight,
-                                o, d, state)
-            segments += n
-            if math.isfinite(c[0] + c[1] + c[2]):
-                r, g, b = min(c[0], clamp), min(c[1], clamp), min(c[2], clamp)
-                partial[y, x, 0] += r
-                partial[y, x, 1] += g
-                partial[y, x, 2] += b
-                partial2[y, x, 0] += r * r
-                partial2[y, x, 1] += g * g
-                partial2[y, x, 2] += b * b
-                valid[y, x] += 1
-                v = (r + g + b) / 3.0
-                if v > 0.0:
-                    i = int((math.log2(v) - LOG2_LOWEST) * BINS_PER_OCTAVE)
-                    i = min(max(i, 0), HIST_BINS - 1)
-                    hist_n[y, i] += 1
-                    hist_e[y, i] += v
-            else:
-                dropped += 1
-            if (s + 1) % BLOCK_SPP == 0:
-                for ch in range(3):
-                    accum[y, x, ch] += partial[y, x, ch]
-                    accum2[y, x, ch] += partial2[y, x, ch]
-                    partial[y, x, ch] = 0.0
-                    partial2[y, x, ch] = 0.0
-    row_stats[y, 0] += segments
-    row_stats[y, 1] += dropped
 
 
 def check_options(*, spp=None, time=None, threads=None, seed=0, sampling="mixture",
@@ -169,28 +117,6 @@ def freeze(scene, *, seed=0, width=None, height=None, max_depth=None, sampling="
                  rows=interleaved_rows(camera.height))
 
 
-class Sums:
-    """The running sums of an image, or of one block of its samples."""
-    FIELDS = ("accum", "accum2", "partial", "partial2", "valid", "row_stats", "hist_n",
-              "hist_e")
-
-    def __init__(self, height, width):
-        self.accum = np.zeros((height, width, 3))
-        self.accum2 = np.zeros((height, width, 3))
-        self.partial = np.zeros((height, width, 3))      # the unfinished block
-        self.partial2 = np.zeros((height, width, 3))
-        self.valid = np.zeros((height, width), dtype=np.int64)
-        self.row_stats = np.zeros((height, 2), dtype=np.int64)
-        self.hist_n = np.zeros((height, HIST_BINS), dtype=np.int64)
-        self.hist_e = np.zeros((height, HIST_BINS))
-
-    def add(self, other):
-        """Merge the sums of the next block(s): with the blocks merged in order
-        the image is bit-identical to rendering them here, in one process."""
-        for name in self.FIELDS:
-            getattr(self, name).__iadd__(getattr(other, name))
-
-
 def render_samples(frame, sums, s0, s1):
     """Add samples s0 .. s1 - 1 of every pixel to `sums`."""
     a = frame.arrays
@@ -230,7 +156,8 @@ class Renderer:
     def compile(self):
         """Compile the kernel (or load it from the cache) with no samples."""
         t0 = _time.perf_counter()
-        render_samples(self.frame, self.sums, 0, 0)
+        with collector_paused():
+            render_samples(self.frame, self.sums, 0, 0)
         self.compile_seconds = _time.perf_counter() - t0
         return self.compile_seconds
 
