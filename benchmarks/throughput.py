@@ -5,10 +5,11 @@
 For every bundled scene at its own size: samples/s and rays/s (path segments/s)
 with 1 thread and with all threads (median of 3 runs after a warm-up pass), the
 scaling ratio, the mean path length and the peak memory (RSS) of a process that
-renders only that scene.  Then cold compile (fresh process, empty Numba cache)
-and cached start (fresh process, cache present: import to a first tiny image),
-and two scaling curves: time against pixels x spp (cornell_box) and against the
-number of spheres (10 .. 10,000 random spheres, with and without the BVH).
+renders only that scene.  Then cold compile (fresh process, empty Numba cache;
+median of 3) and cached start (fresh process, cache present: import to a first
+tiny image), and two scaling curves (median of 3 per point): time against pixels x
+spp (cornell_box) and against the number of spheres (10 .. 10,000 random spheres,
+with and without the BVH).
 
 Writes results/throughput.json and results/throughput.png; prints a table.
 --quick runs a tiny version (seconds) to check that the script works.
@@ -17,6 +18,7 @@ import argparse
 import json
 import os
 import resource
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -127,14 +129,24 @@ def compile_times(cold=True):
     """
     if not cold:
         return dict(cold=None, cached=first_image("cornell_glass"))
-    with tempfile.TemporaryDirectory() as cache:
+    # One cold compile varies by +-2 s on this machine: the median of three, each in
+    # its own empty cache (the last one's cache then serves the cached starts).
+    colds = []
+    for _ in range(3):
+        cache = tempfile.mkdtemp(prefix="numba-cold-")
         env = {"NUMBA_CACHE_DIR": cache}
-        cold = first_image("cornell_glass", env)
+        colds.append(first_image("cornell_glass", env))
+        if len(colds) < 3:
+            shutil.rmtree(cache)
+    try:
         cached = first_image("cornell_glass", env)
         cached_threads = first_image("cornell_glass", {**env, "NUMBA_NUM_THREADS": "1"})
         classic_cold = first_image("cgfs", env)
-    return dict(cold=cold, cached=cached, cached_other_thread_count=cached_threads,
-                classic_cold=classic_cold)
+    finally:
+        shutil.rmtree(cache)
+    cold = sorted(colds, key=lambda c: c["total_s"])[1]
+    return dict(cold=cold, cold_runs=colds, cached=cached,
+                cached_other_thread_count=cached_threads, classic_cold=classic_cold)
 
 
 def random_spheres(n, seed=0):
@@ -156,8 +168,9 @@ def scaling(cfg):
     for w, h, spp in cfg["pixels_spp"]:
         r = rt.Renderer(scene, seed=2, width=w, height=h)
         r.compile()
+        seconds = float(np.median([r.add_samples(spp) for _ in range(3)]))
         out["pixels_spp"].append(dict(width=w, height=h, spp=spp, work=w * h * spp,
-                                      seconds=r.add_samples(spp)))
+                                      seconds=seconds))
     w, h, spp = cfg["sphere_image"]
     for n in cfg["spheres"]:
         row = dict(spheres=n)
@@ -167,7 +180,8 @@ def scaling(cfg):
             r = rt.Renderer(random_spheres(n), seed=3, width=w, height=h, bvh=bvh)
             r.compile()
             r.add_samples(1)
-            row["bvh" if bvh else "flat"] = r.add_samples(spp) / (w * h * spp) * 1e6
+            seconds = float(np.median([r.add_samples(spp) for _ in range(3)]))
+            row["bvh" if bvh else "flat"] = seconds / (w * h * spp) * 1e6
         out["spheres"].append(row)                # microseconds per sample
         print(f"  {n:6d} spheres: " + ", ".join(
             f"{k} {v:.2f} us/sample" for k, v in row.items() if k != "spheres"), flush=True)
