@@ -3,12 +3,13 @@
     pip install '.[dask]' && python benchmarks/dask_overhead.py
 
 cornell_glass at 600x600, 100 and 1000 spp: the local render with 2 Numba
-threads, then the same image on a LocalCluster of 2 single-threaded worker
-processes (rtweekend.render(..., client=)), both after a warm-up (kernels
-compiled, workers warm), alternated.  Records wall time (what a user waits,
+threads (no cluster running), then the same image on a LocalCluster of 2
+single-threaded worker processes (rtweekend.render(..., client=)), both after a
+warm-up (kernels compiled, workers warm).  Records wall time (what a user waits,
 scatter and merging included) and the render time of the stats, the overhead
 of the distributed path, and checks that the two images are bit-identical
-(target: within 15% of local at 1000 spp).  Then the cold start of a worker:
+(target: within 15% of local at 1000 spp).  Then what an idle cluster beside
+the local render costs it (32 spp, 3 alternated runs), the cold start of a worker:
 the first render on a fresh LocalCluster whose workers' Numba cache is empty,
 and again with that cache present: the warm-up's wall time (one worker per
 host compiles, the others then load its cache) and each worker's first kernel
@@ -26,6 +27,7 @@ import subprocess
 import sys
 import tempfile
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -41,8 +43,8 @@ from common import parser as bench_parser  # noqa: E402
 SCENE = "cornell_glass"
 SEED = 7
 WORKERS = 2
-FULL = dict(size=(600, 600), spp=[100, 1000], runs=1, cold_start=True)
-QUICK = dict(size=(48, 48), spp=[20, 40], runs=1, cold_start=False)
+FULL = dict(size=(600, 600), spp=[100, 1000], runs=1, cold_start=True, idle=(32, 3))
+QUICK = dict(size=(48, 48), spp=[20, 40], runs=1, cold_start=False, idle=(16, 1))
 TARGET_OVERHEAD = 0.15      # at the largest spp
 
 
@@ -52,14 +54,29 @@ def timed(fn):
     return result, time.perf_counter() - t0
 
 
-def compare(scene, client, size, spp, runs):
-    """Local (2 threads) and distributed renders of the same image, alternated."""
+@contextmanager
+def warm_cluster(scene):
+    """A LocalCluster of WORKERS workers with their kernels loaded (from the cache)."""
+    with dask_client(workers=WORKERS) as client:
+        client.wait_for_workers(WORKERS)
+        rt.render(scene, spp=BLOCK_SPP, width=16, height=16, client=client)
+        yield client
+
+
+def compare(scene, size, spp, runs):
+    """Local (2 threads) and distributed renders of the same image, alternated.
+
+    The cluster is started before each distributed render and closed after it:
+    its idle processes would otherwise run beside the local render and slow it
+    (see idle_cluster_cost), which a user rendering locally does not have.
+    """
     width, height = size
     opts = dict(spp=spp, seed=SEED, width=width, height=height)
     rows = []
     for _ in range(runs):
         local, local_wall = timed(lambda: rt.render(scene, threads=WORKERS, **opts))
-        far, far_wall = timed(lambda: rt.render(scene, client=client, **opts))
+        with warm_cluster(scene) as client:
+            far, far_wall = timed(lambda: rt.render(scene, client=client, **opts))
         rows.append(dict(local_wall=local_wall, local_render=local.stats.seconds,
                          distributed_wall=far_wall, distributed_render=far.stats.seconds,
                          identical=bool(np.array_equal(local.image, far.image)
@@ -72,6 +89,23 @@ def compare(scene, client, size, spp, runs):
                 overhead=best["distributed_wall"] / best["local_wall"] - 1.0,
                 identical=all(r["identical"] for r in rows),
                 block_bytes=block_bytes(width, height))
+
+
+def idle_cluster_cost(scene, size, spp, runs):
+    """The local 2-thread render with no cluster, and with an idle LocalCluster of
+    WORKERS workers running beside it (alternated; median samples/s of each)."""
+    width, height = size
+    opts = dict(spp=spp, seed=SEED, width=width, height=height, threads=WORKERS)
+    rates = dict(alone=[], idle_cluster=[])
+    for _ in range(runs):
+        rates["alone"].append(width * height * spp / rt.render(scene, **opts).stats.seconds)
+        with warm_cluster(scene):
+            time.sleep(1.0)                   # let the start-up settle
+            rates["idle_cluster"].append(
+                width * height * spp / rt.render(scene, **opts).stats.seconds)
+    alone, idle = (float(np.median(rates[k])) for k in ("alone", "idle_cluster"))
+    return dict(spp=spp, runs=runs, samples_per_s=rates, alone=alone, idle_cluster=idle,
+                slowdown=1.0 - idle / alone)
 
 
 def block_bytes(width, height):
@@ -146,15 +180,15 @@ def main(argv=None):
                 seed=SEED, workers=WORKERS, local_threads=WORKERS, block_spp=BLOCK_SPP,
                 target_overhead=TARGET_OVERHEAD, rows=[])
     rt.render(scene, spp=1, width=16, height=16, threads=WORKERS)      # compile here
-    with dask_client(workers=WORKERS) as client:
-        client.wait_for_workers(WORKERS)
-        rt.render(scene, spp=BLOCK_SPP, width=16, height=16, client=client)   # warm workers
-        for spp in cfg["spp"]:
-            row = compare(scene, client, cfg["size"], spp, cfg["runs"])
-            data["rows"].append(row)
-            print(f"  {spp:5d} spp: local {row['local_wall']:8.2f} s, distributed "
-                  f"{row['distributed_wall']:8.2f} s ({100 * row['overhead']:+.1f}%), "
-                  f"identical: {row['identical']}", flush=True)
+    for spp in cfg["spp"]:
+        row = compare(scene, cfg["size"], spp, cfg["runs"])
+        data["rows"].append(row)
+        print(f"  {spp:5d} spp: local {row['local_wall']:8.2f} s, distributed "
+              f"{row['distributed_wall']:8.2f} s ({100 * row['overhead']:+.1f}%), "
+              f"identical: {row['identical']}", flush=True)
+    data["idle_cluster"] = idle_cluster_cost(scene, cfg["size"], *cfg["idle"])
+    print("  an idle cluster beside the local render costs it "
+          f"{100 * data['idle_cluster']['slowdown']:.1f}%", flush=True)
     if cfg["cold_start"] or args.cold_start:
         print("  cold start of the workers (a compile) ...", flush=True)
         data["cold_start"] = cold_start(scene)
@@ -184,6 +218,9 @@ def table(data):
         verdict = "meets" if last["overhead"] <= data["target_overhead"] else "misses"
         print(f"overhead at {last['spp']} spp {verdict} the target of "
               f"{100 * data['target_overhead']:.0f}%")
+    idle = data["idle_cluster"]
+    print(f"local render alone {idle['alone'] / 1e6:.3f} M samples/s, beside an idle "
+          f"cluster {idle['idle_cluster'] / 1e6:.3f} M ({100 * idle['slowdown']:.1f}% slower)")
     cold = data.get("cold_start", {})
     for label in ("empty_cache", "cache_present"):
         if label in cold:

@@ -50,6 +50,9 @@ def test_dask_overhead_benchmark_quick(tmp_path):
     data = json.loads((tmp_path / "distributed.json").read_text())
     assert [row["spp"] for row in data["rows"]] == [20, 40]
     assert all(row["identical"] for row in data["rows"])
+    idle = data["idle_cluster"]
+    assert idle["alone"] > 0 and idle["idle_cluster"] > 0
+    assert idle["slowdown"] == pytest.approx(1 - idle["idle_cluster"] / idle["alone"])
 
 
 def test_precision_benchmark_quick(tmp_path):
