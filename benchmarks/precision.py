@@ -6,12 +6,12 @@ The renderer works in float64.  Converting all of it to float32 is a large
 change (every literal, the RNG's output, a scale-aware ray offset), so this
 probe first measures what float32 could buy in the part that dominates: the
 nearest-hit search (68% of a `cornell_glass` sample).  One generic function --
-BVH slab test, sphere and rect tests, the same algorithm as hittables.py -- is
+the renderer's BVH slab test, and a copy of its sphere and rect tests -- is
 compiled twice, for float32 and float64; its constants are passed in with the
 arrays' type so that float32 code stays float32 (a float64 literal would
-promote it).  The rays are the same for both: each scene's primary rays (one
-per pixel at the scene's own size, jittered) and one cosine bounce from every
-hit, with the surface left behind excluded as the renderer does.  One thread,
+promote it).  The rays are the same for both, made by the renderer's own code:
+one camera ray per pixel at the scene's own size and, from its hit, one cosine
+bounce (the object left behind is excluded, as the renderer does).  One thread,
 median of 11 runs after a warm-up, the two precisions alternating.  Also counts
 the rays whose nearest object differs between the two.
 
@@ -26,30 +26,20 @@ import numba
 import numpy as np
 
 import rtweekend as rt
-from rtweekend.tags import SPHERE
+from rtweekend import pdf, rng
+from rtweekend.camera import get_ray
+from rtweekend.hittables import _box_entry, closest_hit, face_normal, outward_normal
+from rtweekend.tags import NO_HIT, SPHERE
+from rtweekend.vec3 import madd
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import machine, parser, save_json  # noqa: E402
 
-NO_HIT = -1
-
-
-@numba.njit(inline="always")
-def _box_entry(box, i, o, inv_d, t_max, zero):
-    t0 = (box[i, 0] - o[0]) * inv_d[0]
-    t1 = (box[i, 3] - o[0]) * inv_d[0]
-    near, far = min(t0, t1), max(t0, t1)
-    t0 = (box[i, 1] - o[1]) * inv_d[1]
-    t1 = (box[i, 4] - o[1]) * inv_d[1]
-    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
-    t0 = (box[i, 2] - o[2]) * inv_d[2]
-    t1 = (box[i, 5] - o[2]) * inv_d[2]
-    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
-    return near <= far and far > zero and near < t_max
-
 
 @numba.njit(inline="always")
 def _object_t(obj_i, f, k, o, d, t_max, from_obj, zero, one, inf):
+    # hittables.sphere_t / rect_t, with typed constants: theirs return the
+    # float64 INF, which would make every float32 distance a float64.
     if obj_i[k, 0] == SPHERE:
         if k == from_obj:
             return inf                        # bounces leave spheres outward
@@ -95,7 +85,7 @@ def nearest(obj_i, f, box, node, prims, orig, dirs, from_obj, zero, one, inf, hi
         while i < n_nodes:
             if no_bvh:
                 first, count, after = 0, obj_i.shape[0], 1
-            elif _box_entry(box, i, o, inv_d, t_max, zero):
+            elif _box_entry(box, i, o, inv_d, t_max):
                 count = node[i, 1]
                 if count == 0:
                     i += 1
@@ -114,59 +104,36 @@ def nearest(obj_i, f, box, node, prims, orig, dirs, from_obj, zero, one, inf, hi
     return hits
 
 
-def _unit(v):
-    return v / np.linalg.norm(v, axis=-1, keepdims=True)
-
-
-def primary_rays(camera, width, height, rng):
-    """One jittered pinhole ray per pixel, row 0 at the top (as camera.py)."""
-    eye, at = np.array(camera.lookfrom), np.array(camera.lookat)
-    w = _unit(eye - at)
-    u = _unit(np.cross(camera.vup, w))
-    v = np.cross(w, u)
-    half_h = math.tan(math.radians(camera.vfov) / 2)
-    half_w = half_h * width / height
-    y, x = np.mgrid[0:height, 0:width].reshape(2, -1)
-    sx = (x + rng.random(x.size)) / width * 2 - 1
-    sy = 1 - (y + rng.random(y.size)) / height * 2
-    d = -w + sx[:, None] * half_w * u + sy[:, None] * half_h * v
-    return np.broadcast_to(eye, d.shape).copy(), _unit(d)
-
-
-def bounce_rays(a, orig, dirs, hits, rng):
-    """From every hit, one cosine-distributed direction about the facing normal."""
-    keep = hits != NO_HIT
-    k, o, d = hits[keep], orig[keep], dirs[keep]
-    f = a.obj_f[k]
-    # t along d to object k, recomputed in float64 from the stored geometry
-    sphere = a.obj_i[k, 0] == SPHERE
-    oc = o - f[:, 0:3]
-    half_b = np.einsum("ij,ij->i", oc, d)
-    disc = np.maximum(half_b ** 2 - (np.einsum("ij,ij->i", oc, oc) - f[:, 4]), 0)
-    t_sphere = -half_b - np.sqrt(disc)
-    t_sphere = np.where(t_sphere > 0, t_sphere, -half_b + np.sqrt(disc))
-    n_rect = f[:, 9:12]
-    with np.errstate(divide="ignore", invalid="ignore"):     # rows of the other kind
-        t_rect = (f[:, 12] - np.einsum("ij,ij->i", n_rect, o)) / np.einsum("ij,ij->i",
-                                                                          n_rect, d)
-        t = np.where(sphere, t_sphere, t_rect)
-        p = o + t[:, None] * d
-        n = np.where(sphere[:, None], (p - f[:, 0:3]) / f[:, 3:4], n_rect)
-    n *= -np.sign(np.einsum("ij,ij->i", n, d))[:, None]           # facing the ray
-    out = _unit(n + _unit(rng.normal(size=n.shape)))               # cosine lobe
-    return p, out, k
+@numba.njit
+def _rays(cam, width, height, seed, obj_i, obj_f, bvh_box, bvh_node, bvh_prims):
+    """The renderer's first two segments of one sample per pixel: the camera ray
+    (get_ray) and, from its hit (closest_hit), a cosine bounce (pdf.cosine_generate)
+    about the facing normal.  (origins, directions, object each ray leaves)."""
+    n = width * height
+    orig, dirs = np.empty((2 * n, 3)), np.empty((2 * n, 3))
+    left = np.full(2 * n, NO_HIT)
+    m = n
+    for pixel in range(n):
+        state = rng.seed_state(pixel, 0, seed)
+        o, d, state = get_ray(cam, pixel % width, pixel // width, width, height, state)
+        orig[pixel], dirs[pixel] = o, d
+        k, t = closest_hit(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, o, d, np.inf,
+                           NO_HIT, False)
+        if k != NO_HIT:
+            p = madd(o, d, t)
+            _, normal = face_normal(d, outward_normal(obj_i, obj_f, k, p))
+            bounce, state = pdf.cosine_generate(normal, state)
+            orig[m], dirs[m], left[m] = p, bounce, k
+            m += 1
+    return orig[:m], dirs[:m], left[:m]
 
 
 def rays_for(scene, width, height, seed):
-    """(origins, directions, object left behind) in float64, primary + bounces."""
-    rng = np.random.default_rng(seed)
-    a = rt.Renderer(scene, seed=seed, width=8, height=8).frame.arrays
-    o1, d1 = primary_rays(scene.camera, width, height, rng)
-    args = _args(a, np.float64, o1, d1, np.full(len(o1), NO_HIT))
-    hits = nearest(*args)
-    o2, d2, from2 = bounce_rays(a, o1, d1, hits, rng)
-    return (a, np.concatenate([o1, o2]), np.concatenate([d1, d2]),
-            np.concatenate([np.full(len(o1), NO_HIT), from2]))
+    """(scene arrays, origins, directions, object left behind), float64."""
+    frame = rt.Renderer(scene, seed=seed, width=width, height=height).frame
+    a = frame.arrays
+    return (a, *_rays(frame.cam, width, height, seed, a.obj_i, a.obj_f, a.bvh_box,
+                      a.bvh_node, a.bvh_prims))
 
 
 def _args(a, dtype, orig, dirs, from_obj):
