@@ -23,8 +23,8 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see --help)\n")
 
 
-def _integer(lo, hi=None):
-    """An argparse type: an integer in [lo, hi)."""
+def _integer(lo, hi=None, hi_text=None):
+    """An argparse type: an integer in [lo, hi) (hi_text: how to write hi)."""
     def parse(text):
         try:
             value = int(text)
@@ -33,14 +33,14 @@ def _integer(lo, hi=None):
         if value < lo:
             raise argparse.ArgumentTypeError(f"must be >= {lo}, got {value}")
         if hi is not None and value >= hi:
-            raise argparse.ArgumentTypeError(f"must be in [{lo}, 2**63), got {value}")
+            raise argparse.ArgumentTypeError(f"must be in [{lo}, {hi_text or hi}), got {value}")
         return value
     return parse
 
 
 _positive_int = _integer(1)
 _depth = _integer(0)
-_seed = _integer(0, 2**63)
+_seed = _integer(0, 2**63, "2**63")
 
 
 def _positive_number(text):

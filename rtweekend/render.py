@@ -51,7 +51,6 @@ def render_pass(accum, accum2, partial, partial2, valid, row_stats, hist_n, hist
                   light_weight, clamp)
 
 
-
 def check_options(*, spp=None, time=None, threads=None, seed=0, sampling="mixture",
                   max_depth=None, clamp=None):
     """Raise SceneError for a render option that cannot be used."""
