@@ -129,21 +129,18 @@ def compile_times(cold=True):
     """
     if not cold:
         return dict(cold=None, cached=first_image("cornell_glass"))
-    # One cold compile varies by +-2 s on this machine: the median of three, each in
-    # its own empty cache (the last one's cache then serves the cached starts).
+    # One cold compile varies by +-2 s on this machine: the median of three,
+    # each from an emptied cache; the last one's cache serves the cached starts.
     colds = []
-    for _ in range(3):
-        cache = tempfile.mkdtemp(prefix="numba-cold-")
+    with tempfile.TemporaryDirectory() as cache:
         env = {"NUMBA_CACHE_DIR": cache}
-        colds.append(first_image("cornell_glass", env))
-        if len(colds) < 3:
+        for _ in range(3):
             shutil.rmtree(cache)
-    try:
+            os.mkdir(cache)
+            colds.append(first_image("cornell_glass", env))
         cached = first_image("cornell_glass", env)
         cached_threads = first_image("cornell_glass", {**env, "NUMBA_NUM_THREADS": "1"})
         classic_cold = first_image("cgfs", env)
-    finally:
-        shutil.rmtree(cache)
     cold = sorted(colds, key=lambda c: c["total_s"])[1]
     return dict(cold=cold, cold_runs=colds, cached=cached,
                 cached_other_thread_count=cached_threads, classic_cold=classic_cold)
