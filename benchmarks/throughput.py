@@ -49,12 +49,14 @@ TARGETS = {"cornell_glass_samples_per_s_all_threads": 4e6,
            "weekend_bvh_speedup": 5.0}
 
 
+def _median_seconds(renderer, spp, runs=3):
+    """Median wall time of `runs` passes of spp samples per pixel."""
+    return float(np.median([renderer.add_samples(spp) for _ in range(runs)]))
+
+
 def _median_rate(renderer, spp, runs):
-    rates = []
-    for _ in range(runs):
-        dt = renderer.add_samples(spp)
-        rates.append(renderer.width * renderer.height * spp / dt)
-    return float(np.median(rates))
+    """Samples per second of the median pass (odd runs: the median rate)."""
+    return renderer.width * renderer.height * spp / _median_seconds(renderer, spp, runs)
 
 
 def one_scene(name, spp, runs, size=None):
@@ -165,7 +167,7 @@ def scaling(cfg):
     for w, h, spp in cfg["pixels_spp"]:
         r = rt.Renderer(scene, seed=2, width=w, height=h)
         r.compile()
-        seconds = float(np.median([r.add_samples(spp) for _ in range(3)]))
+        seconds = _median_seconds(r, spp)
         out["pixels_spp"].append(dict(width=w, height=h, spp=spp, work=w * h * spp,
                                       seconds=seconds))
     w, h, spp = cfg["sphere_image"]
@@ -177,7 +179,7 @@ def scaling(cfg):
             r = rt.Renderer(random_spheres(n), seed=3, width=w, height=h, bvh=bvh)
             r.compile()
             r.add_samples(1)
-            seconds = float(np.median([r.add_samples(spp) for _ in range(3)]))
+            seconds = _median_seconds(r, spp)
             row["bvh" if bvh else "flat"] = seconds / (w * h * spp) * 1e6
         out["spheres"].append(row)                # microseconds per sample
         print(f"  {n:6d} spheres: " + ", ".join(
