@@ -74,8 +74,10 @@ def test_a_time_budget_renders_whole_blocks(cornell_box, client):
 
 def test_a_worker_killed_mid_render_changes_nothing(cornell_box, client):
     """Kill a worker that is rendering a block as soon as the first block is
-    merged: the scheduler reruns its blocks on the other worker."""
-    opts = dict(width=48, height=48, seed=11)
+    merged: the scheduler reruns its blocks on the other worker.  A block takes
+    about 0.3 s here, so the other worker is still busy when the first returns
+    (at 48x48, 30 ms a block, both workers were often idle by then)."""
+    opts = dict(width=128, height=128, seed=11)
     spp = 12 * 16
     killed = []
 
