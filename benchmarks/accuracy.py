@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 import rtweekend as rt
-from rtweekend.image import tonemap
+from rtweekend.io.image import tonemap
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import machine, mitsuba_reference, save_json  # noqa: E402

@@ -33,8 +33,9 @@ from pathlib import Path
 import numpy as np
 
 import rtweekend as rt
-from rtweekend.distributed import THREADS_VAR, dask_client
-from rtweekend.render import BLOCK_SPP
+from rtweekend.distributed import dask_client
+from rtweekend.distributed.cluster import THREADS_VAR
+from rtweekend.path.film import BLOCK_SPP
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import machine, save_json  # noqa: E402
@@ -109,16 +110,16 @@ def idle_cluster_cost(scene, size, spp, runs):
 
 
 def block_bytes(width, height):
-    """What one task sends back: the sums of a whole block (render.Sums less the
-    emptied partial sums)."""
-    from rtweekend.render import HIST_BINS
+    """What one task sends back: the film of a whole block (path/film.Film less
+    the emptied partial sums)."""
+    from rtweekend.path.film import HIST_BINS
     return height * width * (2 * 3 * 8 + 8) + height * (2 * 8 + 2 * HIST_BINS * 8)
 
 
 def _kernel_seconds():
     """On a worker: what its first kernel call cost (compile, or load from the cache)."""
-    from rtweekend.distributed import _WORKER
-    return _WORKER["info"]["compile_seconds"]
+    from rtweekend.distributed.worker import worker_info
+    return worker_info()["compile_seconds"]
 
 
 def cold_start(scene):

@@ -79,14 +79,14 @@ def one_scene(name, spp, runs, size=None):
         r.add_samples(1)                                        # warm-up
         for label, threads in (("1_thread", 1), ("all_threads", numba.config.NUMBA_NUM_THREADS)):
             numba.set_num_threads(threads)
-            rays0, samples0 = int(r.sums.row_stats[:, 0].sum()), r.spp
+            rays0, samples0 = int(r.film.row_stats[:, 0].sum()), r.spp
             rate = _median_rate(r, spp, runs)
-            rays = int(r.sums.row_stats[:, 0].sum()) - rays0
+            rays = int(r.film.row_stats[:, 0].sum()) - rays0
             path = rays / ((r.spp - samples0) * r.width * r.height)
             out[label] = dict(samples_per_s=rate, rays_per_s=rate * path, threads=threads)
         out.update(width=r.width, height=r.height, spp=spp, integrator="path",
-                   mean_path_length=path, objects=int(len(r.frame.arrays.obj_i)),
-                   bvh=bool(len(r.frame.arrays.bvh_node)))
+                   mean_path_length=path, objects=int(len(r.frame.scene.obj_i)),
+                   bvh=bool(len(r.frame.scene.bvh_node)))
     out["scaling"] = out["all_threads"]["samples_per_s"] / out["1_thread"]["samples_per_s"]
     out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return out

@@ -7,16 +7,20 @@
 
 Scenes with phong materials and ambient/point/directional lights are rendered
 by the classic ray tracer of Computer Graphics from Scratch instead.
+
+The package by role: scene/ (descriptions and the TOML loader), path/ and
+classic/ (each integrator's kernels and how a scene is frozen for them),
+kernel/ (what both share), local.py and distributed/ (the drivers), io/, and
+api.py, which ties them together.  docs/architecture.md walks through it.
 """
+from .api import render
 from .errors import SceneError
-from .classic_scene import ClassicCamera, ambient, directional, point
-from .image import save_image
-from .render import Renderer, render
+from .io.image import save_image
+from .path.renderer import Renderer
 from .result import RenderResult, RenderStats
-from .scene import SKY, Camera, Scene
-from .scenefile import bundled_scenes, load_scene
-from .shapes import (box, dielectric, diffuse_light, lambertian, metal, phong, sphere,
-                     xy_rect, xz_rect, yz_rect)
+from .scene import (SKY, Camera, ClassicCamera, Scene, ambient, box, bundled_scenes,
+                    dielectric, diffuse_light, directional, lambertian, load_scene, metal,
+                    phong, point, sphere, xy_rect, xz_rect, yz_rect)
 
 __all__ = [
     "SceneError", "load_scene", "bundled_scenes", "save_image",

@@ -11,6 +11,7 @@ import sys
 from pathlib import Path
 
 from .errors import SceneError
+from .options import SAMPLINGS
 
 DEFAULT_SCENE = "cornell_glass"
 EXIT_BAD_INPUT = 2
@@ -77,7 +78,7 @@ def build_parser():
                    "followed (3 in the book, 0 allowed)")
     r.add_argument("--threads", type=_positive_int, help="threads of a local render "
                    "(default: all cores)")
-    r.add_argument("--sampling", choices=("mixture", "cosine", "light"),
+    r.add_argument("--sampling", choices=tuple(SAMPLINGS),
                    help="diffuse sampling: the books' 0.5/0.5 mixture (default), cosine "
                    "only, or lights only")
     r.add_argument("--clamp", type=_positive_number, metavar="X", help="cap every sample's "
@@ -105,8 +106,11 @@ def main(argv=None):
         return EXIT_BAD_INPUT
 
 
+# The renderer is imported when a command needs it, so that --help, `scenes` and
+# a bad option answer without loading Numba (half a second).
+
 def _scenes():
-    from .scenefile import bundled_scenes
+    from .scene.loader import bundled_scenes
     scenes = bundled_scenes()
     width = max(map(len, scenes))
     for name, description in scenes.items():
@@ -115,10 +119,10 @@ def _scenes():
 
 
 def _render(args):
+    from .api import render
     from .distributed import dask_client
-    from .image import check_output_path, save_image
-    from .render import render
-    from .scenefile import load_scene
+    from .io.image import check_output_path, save_image
+    from .scene.loader import load_scene
 
     scene = load_scene(args.scene)
     output = Path(args.output) if args.output else Path(f"{scene.name}.png")

@@ -1,4 +1,6 @@
-"""The one exception a user of rtweekend needs to catch for bad input."""
+"""The one exception a user of rtweekend needs to catch for bad input, and how
+the description layer builds its one-line messages."""
+import functools
 
 
 class SceneError(ValueError):
@@ -15,3 +17,27 @@ class FieldError(Exception):
         super().__init__(f"{field}: {problem}")
         self.field = field
         self.problem = problem
+
+
+def label(kind, name):
+    """How a message names an object: "sphere 'ball'", or "sphere" if unnamed."""
+    return f"{kind} '{name}'" if name else kind
+
+
+def checked(kind):
+    """Expose a builder that raises FieldError as one that raises SceneError.
+
+    The loader calls `.raw` instead, to put the file and the position in the
+    message itself.
+    """
+    def wrap(build):
+        @functools.wraps(build)
+        def public(*args, name=None, **kwargs):
+            try:
+                return build(*args, name=name, **kwargs)
+            except FieldError as e:
+                raise SceneError(f"{label(kind, name)}: {e}") from None
+        public.raw = build
+        public.kind = kind
+        return public
+    return wrap

@@ -1,8 +1,5 @@
 """What a render returns: the image, its standard error, and the stats."""
-import math
 from dataclasses import dataclass
-
-import numpy as np
 
 FIREFLY_FACTOR = 100.0   # a firefly: a sample worth this many times the image mean
 
@@ -85,37 +82,3 @@ class RenderResult:
 
     def __repr__(self):
         return f"RenderResult({self.stats.summary()})"
-
-
-def mean_and_stderr(accum, accum2, valid):
-    """Per-pixel mean of the kept samples and its standard error."""
-    n = valid[..., None].astype(np.float64)
-    mean = np.divide(accum, n, out=np.zeros_like(accum), where=n > 0)
-    # Unbiased sample variance / n; pixels with < 2 samples get no estimate (inf).
-    var = np.divide(accum2 - n * mean * mean, n - 1, out=np.full_like(accum, np.inf),
-                    where=n > 1)
-    stderr = np.sqrt(np.maximum(var, 0.0) / np.maximum(n, 1))
-    return mean.astype(np.float32), stderr.astype(np.float32)
-
-
-def firefly_stats(counts, energy, image_mean, log2_lowest, bins_per_octave):
-    """(samples above FIREFLY_FACTOR x image_mean, their share of all energy).
-
-    From a histogram of sample values with `bins_per_octave` bins per doubling:
-    the bin holding the threshold is split in proportion to where the
-    threshold falls in it (log scale), so the count is exact whenever no sample
-    lies within 1/bins_per_octave octave of the threshold.
-    """
-    total = float(energy.sum())
-    if image_mean <= 0.0 or total <= 0.0:
-        return 0, 0.0
-    x = (math.log2(FIREFLY_FACTOR * image_mean) - log2_lowest) * bins_per_octave
-    i = int(math.floor(x))
-    if i < 0:
-        return int(counts.sum()), 1.0
-    if i >= len(counts):
-        return 0, 0.0
-    above = 1.0 - (x - i)        # part of bin i above the threshold
-    n = counts[i + 1:].sum() + above * counts[i]
-    e = energy[i + 1:].sum() + above * energy[i]
-    return int(round(n)), float(e / total)

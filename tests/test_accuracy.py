@@ -16,7 +16,7 @@ import rtweekend as rt
 STRATEGIES = ["cosine", "light", "mixture"]
 
 
-def _assert_expected(image, stderr, exact, what):
+def assert_expected(image, stderr, exact, what):
     mean = float(image.astype(np.float64).mean())
     se = float(np.sqrt((stderr.astype(np.float64) ** 2).sum()) / stderr.size)
     assert abs(mean - exact) < 4 * se + 1e-6, \
@@ -40,7 +40,7 @@ def test_furnace_lambertian_gives_the_albedo(sampling, albedo):
     # vfov 20: every pixel sees the unit sphere at distance 4 (half-angle 14.5).
     r = rt.render(furnace(rt.sphere((0, 0, 0), 1, rt.lambertian((albedo,) * 3))),
                   spp=64, sampling=sampling, seed=1)
-    _assert_expected(r.image, r.stderr, albedo, f"lambertian furnace ({sampling})")
+    assert_expected(r.image, r.stderr, albedo, f"lambertian furnace ({sampling})")
     assert r.stats.nan_dropped == 0
 
 
@@ -52,7 +52,7 @@ def test_furnace_glass_conserves_energy(sampling, shape):
     if shape == "bubble":   # book 1's hollow glass: a negative radius inside
         scene.add(rt.sphere((0, 0, 0), -0.8, glass))
     r = rt.render(scene, spp=64, sampling=sampling, seed=2)
-    _assert_expected(r.image, r.stderr, 1.0, f"glass furnace, {shape} ({sampling})")
+    assert_expected(r.image, r.stderr, 1.0, f"glass furnace, {shape} ({sampling})")
     assert r.stats.nan_dropped == 0
 
 
@@ -65,7 +65,7 @@ def test_furnace_glass_at_grazing_angles_and_total_internal_reflection():
     scene.camera = rt.Camera(lookfrom=(0, 0.03, 4), lookat=(0, 0, 0), vfov=3,
                              width=16, height=16)
     r = rt.render(scene, spp=64, seed=3, max_depth=500)
-    _assert_expected(r.image, r.stderr, 1.0, "grazing glass slab")
+    assert_expected(r.image, r.stderr, 1.0, "grazing glass slab")
     assert r.stats.nan_dropped == 0
 
 
@@ -75,7 +75,7 @@ def test_furnace_mirror_gives_the_albedo(sampling):
     r = rt.render(furnace(rt.sphere((0, 0, 0), 1, rt.metal(a, 0.0))), spp=16,
                   sampling=sampling, seed=4)
     for c in range(3):
-        _assert_expected(r.image[..., c], r.stderr[..., c], a[c], f"mirror ({sampling})")
+        assert_expected(r.image[..., c], r.stderr[..., c], a[c], f"mirror ({sampling})")
 
 
 # -- direct light from a rectangle ------------------------------------------------
@@ -128,7 +128,7 @@ def test_rect_light_direct(sampling, p):
     scene, albedo = _floor_point_scene((p[0], 0, p[1]), light)
     exact = albedo / math.pi * le * rect_integral(x0, x1, z0, z1, h, p[0], p[1])
     r = rt.render(scene, spp=40_000, sampling=sampling, seed=5)
-    _assert_expected(r.image[..., 0], r.stderr[..., 0], exact, f"rect light ({sampling})")
+    assert_expected(r.image[..., 0], r.stderr[..., 0], exact, f"rect light ({sampling})")
 
 
 @pytest.mark.parametrize("sampling", STRATEGIES)
@@ -142,7 +142,7 @@ def test_sphere_light_direct(sampling, s):
     d = math.hypot(s, h)
     exact = albedo * le * (r_ / d) ** 2 * (h / d)
     r = rt.render(scene, spp=40_000, sampling=sampling, seed=6)
-    _assert_expected(r.image[..., 0], r.stderr[..., 0], exact, f"sphere light ({sampling})")
+    assert_expected(r.image[..., 0], r.stderr[..., 0], exact, f"sphere light ({sampling})")
 
 
 def test_cosine_and_mixture_agree_on_cornell_box_block_by_block():

@@ -11,7 +11,8 @@ from hypothesis import strategies as st
 
 import rtweekend as rt
 from rtweekend.cli import main
-from rtweekend.scenefile import scene_from_dict
+from rtweekend.path.pack import pack_scene
+from rtweekend.scene.loader import scene_from_dict
 
 GOOD = textwrap.dedent("""\
     description = "a test scene"
@@ -218,7 +219,7 @@ def test_any_document_loads_or_raises_scene_error(doc):
     except rt.SceneError as e:
         assert "\n" not in str(e)
     else:
-        scene.arrays()
+        pack_scene(scene)
 
 
 def _mutated_good_docs():
@@ -253,7 +254,7 @@ def test_one_bad_field_in_a_good_document(path, value):
     except rt.SceneError as e:
         assert "\n" not in str(e)
     else:
-        scene.arrays()
+        pack_scene(scene)
 
 
 @settings(max_examples=200)

@@ -68,28 +68,28 @@ def test_precision_benchmark_quick(tmp_path):
 
 
 def test_precision_probe_is_the_renderers_search_in_true_float32():
-    """The probe's float64 search finds what closest_hit finds, and its float32
-    build computes in single precision (no double arithmetic in its assembly)."""
+    """The probe runs the renderer's own closest_hit: in float64 it finds what
+    the renderer finds, and its float32 build computes in single precision (no
+    double arithmetic in its assembly)."""
     import re
 
     import numpy as np
     from numba import types
 
     import rtweekend as rt
-    from rtweekend.hittables import closest_hit
+    from rtweekend.path.bvh import closest_hit
     sys.path.insert(0, str(REPO / "benchmarks"))
     try:
         import precision
     finally:
         sys.path.pop(0)
     a, o, d, left = precision.rays_for(rt.load_scene("cornell_glass"), 24, 24, seed=3)
-    hits = precision.nearest(*precision._args(a, np.float64, o, d, left))
+    hits = precision.nearest(*precision.arguments(a, np.float64, o, d, left))
     for r in range(0, len(o), 5):
-        k, _ = closest_hit(a.obj_i, a.obj_f, a.bvh_box, a.bvh_node, a.bvh_prims,
-                           tuple(o[r]), tuple(d[r]), np.inf, left[r], False)
+        k, _ = closest_hit(a, tuple(o[r]), tuple(d[r]), np.inf, left[r], False)
         assert k == hits[r], r
     assert (hits != precision.NO_HIT).sum() > len(o) // 2
-    precision.nearest(*precision._args(a, np.float32, o, d, left))
+    precision.nearest(*precision.arguments(a, np.float32, o, d, left))
     sig = [s for s in precision.nearest.signatures if s[1].dtype == types.float32][0]
     asm = precision.nearest.inspect_asm(sig)
     assert re.findall(r"\bv?(?:mul|add|sub|div|sqrt)ss\b", asm)

@@ -1,26 +1,41 @@
 """Numba's cache is keyed by the package's sources, so no edit runs stale code;
 and what the compile itself is wrapped in."""
-import hashlib
+import shutil
 from pathlib import Path
 
 from numba import config
 
 import rtweekend
+from rtweekend.kernel.jit import PACKAGE, source_digest
 
 
 def test_cache_folder_is_keyed_by_every_source_file():
-    h = hashlib.sha256()
-    for path in sorted(Path(rtweekend.__file__).parent.glob("*.py")):
-        h.update(path.name.encode())
-        h.update(path.read_bytes())
-    assert Path(config.CACHE_DIR).name == f"numba-{h.hexdigest()[:16]}"
+    assert PACKAGE == Path(rtweekend.__file__).resolve().parent
+    assert Path(config.CACHE_DIR).name == f"numba-{source_digest()}"
     assert Path(config.CACHE_DIR).is_dir()
+
+
+def test_an_edit_anywhere_in_the_package_changes_the_key(tmp_path):
+    # Subpackages count (an edit to path/pdf.py must not load a stale kernel),
+    # and so does where a file is: moving one changes the key too.
+    copy = tmp_path / "rtweekend"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    before = source_digest(copy)
+    assert before == source_digest(PACKAGE)
+    deep = copy / "path" / "shapes" / "sphere.py"
+    text = deep.read_text()
+    deep.write_text(text + "\n# an edit\n")
+    assert source_digest(copy) != before
+    deep.write_text(text)
+    assert source_digest(copy) == before
+    deep.rename(copy / "path" / "sphere.py")
+    assert source_digest(copy) != before
 
 
 def test_collector_is_paused_only_while_compiling():
     import gc
 
-    from rtweekend.jit import collector_paused
+    from rtweekend.kernel.jit import collector_paused
     assert gc.isenabled()
     with collector_paused():
         assert not gc.isenabled()

@@ -6,8 +6,7 @@ import numba
 import numpy as np
 import pytest
 
-from rtweekend.classic import classic_arrays, render_canvas
-from rtweekend.tags import AMBIENT, DIRECTIONAL, POINT
+from rtweekend.classic.kernel import AMBIENT, DIRECTIONAL, POINT, classic_arrays, render_canvas
 
 
 def sphere(center, radius, color, specular=-1, reflective=0.0):

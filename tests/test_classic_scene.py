@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import rtweekend as rt
-from rtweekend.classic import classic_arrays, render_canvas
+from rtweekend.classic.kernel import classic_arrays, render_canvas
 from rtweekend.cli import main
 
 from test_classic import DEMO_LIGHTS, DEMO_SPHERES, twin_render
@@ -134,7 +134,7 @@ def test_a_rect_in_a_classic_scene_is_an_error():
     ({"type": "spot", "intensity": 1}, "'spot' is not a light type"),
 ])
 def test_bad_classic_lights(light, field):
-    from rtweekend.scenefile import scene_from_dict
+    from rtweekend.scene.loader import scene_from_dict
     doc = {"lights": [light], "objects": [{"type": "sphere", "center": [0, 0, 3], "radius": 1,
                                            "material": {"type": "phong",
                                                         "color": [1, 2, 3]}}]}

@@ -22,7 +22,8 @@ pytest.importorskip("distributed", reason="needs Dask: pip install 'rtweekend[da
 
 from rtweekend.distributed import (ClusterError, dask_client, environment,  # noqa: E402
                                    warm_worker)
-from rtweekend.render import freeze  # noqa: E402
+from rtweekend.options import RenderOptions  # noqa: E402
+from rtweekend.path.renderer import freeze  # noqa: E402
 
 CMD = [sys.executable, "-m", "rtweekend"]
 SMALL = dict(width=32, height=32, seed=7)
@@ -58,7 +59,8 @@ def test_same_bits_as_a_local_render(cornell_box, client):
 
 
 def test_the_local_cluster_runs_one_numba_thread_per_worker(cornell_box, client):
-    [frame] = client.scatter([freeze(cornell_box, width=4, height=4)], broadcast=True)
+    [frame] = client.scatter([freeze(cornell_box, RenderOptions(width=4, height=4))],
+                              broadcast=True)
     infos = [client.submit(warm_worker, frame, workers=[w], pure=False).result()
              for w in client.nthreads()]
     assert [i["numba_threads"] for i in infos] == [1, 1]

@@ -7,8 +7,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rtweekend as rt
-from rtweekend.hittables import INF, closest_hit, enters, face_normal, outward_normal
-from rtweekend.tags import NO_HIT
+from rtweekend.path import shapes
+from rtweekend.path.bvh import INF, closest_hit
+from rtweekend.path.integrator import face_normal
+from rtweekend.path.layout import NO_HIT
+from rtweekend.path.pack import pack_scene
 
 MAT = rt.lambertian((0.5, 0.5, 0.5))
 
@@ -23,18 +26,17 @@ def arrays(*shapes, bvh=False):
     scene = rt.Scene()
     for s in shapes:
         scene.add(s)
-    return scene.arrays(bvh=bvh)
+    return pack_scene(scene, bvh=bvh)
 
 
 def hit(a, o, d, t_max=INF, from_obj=NO_HIT, from_inside=False):
     d = tuple(np.asarray(d, dtype=float) / np.linalg.norm(d))
     o = tuple(float(c) for c in o)
-    k, t = closest_hit(a.obj_i, a.obj_f, a.bvh_box, a.bvh_node, a.bvh_prims, o, d, t_max,
-                       from_obj, from_inside)
+    k, t = closest_hit(a, o, d, t_max, from_obj, from_inside)
     if k == NO_HIT:
         return None
     p = tuple(np.add(o, np.multiply(t, d)))
-    n_out = outward_normal(a.obj_i, a.obj_f, k, p)
+    n_out = shapes.outward_normal(a, k, p)
     front, n = face_normal(d, n_out)
     return dict(k=k, t=t, p=np.array(p), n_out=np.array(n_out), front=front, n=np.array(n))
 
@@ -171,7 +173,7 @@ def test_leaving_a_surface_never_hits_it_again(bvh):
     # Entering the sphere at its bottom: the far side at the chord length.
     p = (0.0, 4.0, 0.0)
     d = np.array([0.3, 1.0, 0.0]) / np.linalg.norm([0.3, 1.0, 0.0])
-    assert enters(a.obj_i, a.obj_f, 1, p, tuple(d))
+    assert shapes.enters(a, 1, p, tuple(d))
     h = hit(a, p, d, from_obj=1, from_inside=True)
     chord = 2 * 1.0 * d[1]                    # 2 r cos(angle to the normal)
     assert h["k"] == 1 and h["t"] == pytest.approx(chord, rel=1e-12)
@@ -196,7 +198,7 @@ def test_self_exclusion_is_scale_free(scale, bvh):
 
 def test_bvh_finds_the_same_hits_as_testing_every_object():
     scene = rt.load_scene("weekend")
-    flat, tree = scene.arrays(bvh=False), scene.arrays(bvh=True)
+    flat, tree = pack_scene(scene, bvh=False), pack_scene(scene, bvh=True)
     assert len(tree.bvh_node) > 1 and len(flat.bvh_node) == 0
     assert sorted(tree.bvh_prims) == list(range(len(tree.obj_i)))   # each object once
     rng = np.random.default_rng(3)

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import rtweekend as rt
-from rtweekend.image import tonemap
+from rtweekend.io.image import tonemap
 
 
 def test_tonemap_is_the_books_write_color():

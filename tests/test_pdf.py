@@ -12,9 +12,10 @@ import pytest
 from numba import njit
 
 import rtweekend as rt
-from rtweekend import pdf
-from rtweekend.rng import seed_state, unit_vector
-from rtweekend.tags import NO_HIT
+from rtweekend.kernel.rng import seed_state, unit_vector
+from rtweekend.path import pdf
+from rtweekend.path.layout import NO_HIT
+from rtweekend.path.pack import pack_scene
 
 from stats import assert_chi2
 
@@ -24,20 +25,20 @@ COS_BINS, PHI_BINS, SUB = 24, 48, 32
 
 
 @njit
-def _generate(obj_i, obj_f, lights, p, n, w, count, seed):
+def _generate(a, p, n, w, count, seed):
     out = np.empty((count, 3))
     for i in range(count):
-        d, _ = pdf.mixture_generate(obj_i, obj_f, lights, p, n, w, seed_state(i, 0, seed))
+        d, _ = pdf.mixture_generate(a, p, n, w, seed_state(i, 0, seed))
         out[i, 0], out[i, 1], out[i, 2] = d
     return out
 
 
 @njit
-def _value(obj_i, obj_f, lights, p, n, w, dirs):
+def _value(a, p, n, w, dirs):
     out = np.empty(dirs.shape[0])
     for i in range(dirs.shape[0]):
         d = (dirs[i, 0], dirs[i, 1], dirs[i, 2])
-        out[i] = pdf.mixture_value(obj_i, obj_f, lights, p, n, w, d, NO_HIT, False)
+        out[i] = pdf.mixture_value(a, p, n, w, d, NO_HIT, False)
     return out
 
 
@@ -54,9 +55,9 @@ def _case(shapes, w, p=(0.0, 0.0, 0.0), n=(0.0, 0.0, 1.0)):
     scene = rt.Scene()
     for s in shapes:
         scene.add(s, light=True)
-    a = scene.arrays()
+    a = pack_scene(scene)
     n = tuple(np.asarray(n, float) / np.linalg.norm(n))
-    return a.obj_i, a.obj_f, a.lights, tuple(map(float, p)), n, float(w)
+    return a, tuple(map(float, p)), n, float(w)
 
 
 CASES = {
@@ -77,9 +78,9 @@ CASES = {
 
 @pytest.mark.parametrize("name", CASES)
 def test_pdf_integrates_to_one(name):
-    obj_i, obj_f, lights, p, n, w = CASES[name]()
+    a, p, n, w = CASES[name]()
     dirs = _uniform_dirs(400_000, 7)
-    v = _value(obj_i, obj_f, lights, p, n, w, dirs) * 4 * math.pi
+    v = _value(a, p, n, w, dirs) * 4 * math.pi
     se = v.std() / math.sqrt(len(v))
     assert abs(v.mean() - 1.0) < 5 * se + 1e-12, (v.mean(), se)
 
@@ -92,7 +93,7 @@ def _bin_index(dirs):
     return i * PHI_BINS + j
 
 
-def _expected_per_bin(obj_i, obj_f, lights, p, n, w):
+def _expected_per_bin(a, p, n, w):
     """N x integral of value() over each equal-area bin.
 
     One jittered point per sub-cell (stratified Monte Carlo): unlike the
@@ -106,7 +107,7 @@ def _expected_per_bin(obj_i, obj_f, lights, p, n, w):
     phi = pj / (PHI_BINS * SUB) * 2 * math.pi
     sin_t = np.sqrt(1 - cos_t ** 2)
     dirs = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], -1).reshape(-1, 3)
-    v = _value(obj_i, obj_f, lights, p, n, w, np.ascontiguousarray(dirs))
+    v = _value(a, p, n, w, np.ascontiguousarray(dirs))
     d_omega = 4 * math.pi / (COS_BINS * SUB * PHI_BINS * SUB)
     per_bin = v.reshape(COS_BINS, SUB, PHI_BINS, SUB).sum(axis=(1, 3)) * d_omega
     return N_SAMPLES * per_bin.ravel()
@@ -114,13 +115,13 @@ def _expected_per_bin(obj_i, obj_f, lights, p, n, w):
 
 @pytest.mark.parametrize("name", CASES)
 def test_samples_follow_value(name):
-    obj_i, obj_f, lights, p, n, w = CASES[name]()
-    dirs = _generate(obj_i, obj_f, lights, p, n, w, N_SAMPLES, 11)
+    a, p, n, w = CASES[name]()
+    dirs = _generate(a, p, n, w, N_SAMPLES, 11)
     assert np.allclose(np.linalg.norm(dirs, axis=1), 1.0)
     # Every sample is a direction its own pdf gives a positive density.
-    assert (_value(obj_i, obj_f, lights, p, n, w, dirs) > 0).all()
+    assert (_value(a, p, n, w, dirs) > 0).all()
     observed = np.bincount(_bin_index(dirs), minlength=COS_BINS * PHI_BINS)
-    expected = _expected_per_bin(obj_i, obj_f, lights, p, n, w)
+    expected = _expected_per_bin(a, p, n, w)
     # Pool the bins with few expected samples (the chi-square needs ~20+).
     keep = expected > 20
     observed = np.append(observed[keep], observed[~keep].sum())
@@ -130,34 +131,34 @@ def test_samples_follow_value(name):
 
 def test_light_pdf_closed_forms():
     # Sphere of radius r at distance d: uniform over the cone, 1 / (2 pi (1 - cos)).
-    obj_i, obj_f, lights, p, n, w = _case([rt.sphere((0, 0, 3), 1.5, MAT)], 1.0)
+    a, p, n, w = _case([rt.sphere((0, 0, 3), 1.5, MAT)], 1.0)
     cos_max = math.sqrt(1 - 1.5 ** 2 / 3 ** 2)
     for d in [(0.0, 0.0, 1.0), (0.3, 0.1, 1.0)]:
         d = tuple(np.asarray(d) / np.linalg.norm(d))
-        assert pdf.lights_value(obj_i, obj_f, lights, p, d, NO_HIT, False) == \
+        assert pdf.lights_value(a, p, d, NO_HIT, False) == \
             pytest.approx(1 / (2 * math.pi * (1 - cos_max)), rel=1e-12)
     # Far away the same formula, without cancellation: ~ 1 / (pi (r/d)^2).
-    obj_i, obj_f, lights, p, n, w = _case([rt.sphere((0, 0, 1e6), 1.0, MAT)], 1.0)
-    assert pdf.lights_value(obj_i, obj_f, lights, p, (0.0, 0.0, 1.0), NO_HIT, False) == \
+    a, p, n, w = _case([rt.sphere((0, 0, 1e6), 1.0, MAT)], 1.0)
+    assert pdf.lights_value(a, p, (0.0, 0.0, 1.0), NO_HIT, False) == \
         pytest.approx(1e12 / math.pi, rel=1e-6)
     # Rect of area A at distance h, straight above: h^2 / (cos A); at 45 degrees
     # the distance is h sqrt 2 and the cosine 1/sqrt 2.
-    obj_i, obj_f, lights, p, n, w = _case([rt.xz_rect(-2, 2, -1, 1, 1.5, MAT)], 1.0)
-    assert pdf.lights_value(obj_i, obj_f, lights, p, (0.0, 1.0, 0.0), NO_HIT, False) == \
+    a, p, n, w = _case([rt.xz_rect(-2, 2, -1, 1, 1.5, MAT)], 1.0)
+    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False) == \
         pytest.approx(1.5 ** 2 / 8, rel=1e-12)
     d = (math.sqrt(0.5), math.sqrt(0.5), 0.0)
-    assert pdf.lights_value(obj_i, obj_f, lights, p, d, NO_HIT, False) == \
+    assert pdf.lights_value(a, p, d, NO_HIT, False) == \
         pytest.approx((1.5 * math.sqrt(2)) ** 2 / (math.sqrt(0.5) * 8), rel=1e-12)
     # Inside a sphere light every direction hits it: uniform, 1 / (4 pi).
-    obj_i, obj_f, lights, p, n, w = _case([rt.sphere((0.2, 0, 0), 1.0, MAT)], 1.0)
-    assert pdf.lights_value(obj_i, obj_f, lights, p, (0.0, 1.0, 0.0), NO_HIT, False) == \
+    a, p, n, w = _case([rt.sphere((0.2, 0, 0), 1.0, MAT)], 1.0)
+    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False) == \
         pytest.approx(1 / (4 * math.pi))
 
 
 def test_light_pdf_is_zero_off_the_light_and_from_the_light_itself():
-    obj_i, obj_f, lights, p, n, w = CASES["rect light"]()
+    a, p, n, w = CASES["rect light"]()
     miss = np.array([[0.0, 0.0, -1.0], [1.0, 0.0, 0.0]])
-    assert (_value(obj_i, obj_f, lights, p, n, 1.0, miss) == 0).all()
+    assert (_value(a, p, n, 1.0, miss) == 0).all()
     # From a point on the light rect, no direction reaches it: density 0.
-    assert pdf.lights_value(obj_i, obj_f, lights, (0.0, 0.0, 1.0), (0.0, 0.0, 1.0),
+    assert pdf.lights_value(a, (0.0, 0.0, 1.0), (0.0, 0.0, 1.0),
                             0, False) == 0.0

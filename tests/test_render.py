@@ -6,8 +6,8 @@ import pytest
 
 import rtweekend as rt
 
-# The package attribute `render` is the function; this is the module.
-render_module = importlib.import_module("rtweekend.render")
+# The local driver's module, whose pass length a test changes.
+local_module = importlib.import_module("rtweekend.local")
 
 
 @pytest.fixture(scope="module")
@@ -34,7 +34,7 @@ def test_thread_count_does_not_change_a_bit(cornell_box):
 
 def test_pass_sizes_do_not_change_a_bit(cornell_box, monkeypatch):
     whole, _ = rt.render(cornell_box, spp=6, seed=2, width=32, height=32)
-    monkeypatch.setattr(render_module, "PASS_SECONDS", 0.0)      # 1 spp per pass
+    monkeypatch.setattr(local_module, "PASS_SECONDS", 0.0)      # 1 spp per pass
     split, stats = rt.render(cornell_box, spp=6, seed=2, width=32, height=32)
     assert np.array_equal(whole, split)
 
@@ -109,15 +109,18 @@ def test_renderer_accumulates_passes_like_one_render(cornell_box):
 def test_blocks_rendered_apart_and_merged_in_order_are_bit_identical(cornell_box):
     # What a distributed render does: each block of samples on its own, from
     # fresh sums, merged in block order.  40 spp = blocks of 16, 16 and 8.
-    from rtweekend.render import BLOCK_SPP, Sums, block_sums, freeze
-    frame = freeze(cornell_box, seed=3, width=24, height=16)
-    merged = Sums(frame.height, frame.width)
+    # (The histogram's float sums are added in another order: not compared.)
+    from rtweekend.options import RenderOptions
+    from rtweekend.path.film import BLOCK_SPP, merge, new_film
+    from rtweekend.path.renderer import block_film, freeze
+    frame = freeze(cornell_box, RenderOptions(seed=3, width=24, height=16))
+    merged = new_film(frame.height, frame.width)
     for s0 in range(0, 40, BLOCK_SPP):
-        merged.add(block_sums(frame, s0, min(s0 + BLOCK_SPP, 40)))
+        merge(merged, block_film(frame, s0, min(s0 + BLOCK_SPP, 40)))
     local = rt.Renderer(cornell_box, seed=3, width=24, height=16)
     local.add_samples(7)
     local.add_samples(33)
-    for name in Sums.FIELDS[:6]:
-        assert np.array_equal(getattr(merged, name), getattr(local.sums, name)), name
+    for name in ("accum", "accum2", "partial", "partial2", "valid", "row_stats"):
+        assert np.array_equal(getattr(merged, name), getattr(local.film, name)), name
     with pytest.raises(ValueError):
-        block_sums(frame, 3, 10)          # blocks start on a block boundary
+        block_film(frame, 3, 10)          # blocks start on a block boundary

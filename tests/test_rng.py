@@ -2,7 +2,7 @@
 import numpy as np
 from numba import njit
 
-from rtweekend.rng import seed_state, uniform
+from rtweekend.kernel.rng import seed_state, uniform
 
 from stats import assert_chi2
 

@@ -8,10 +8,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rtweekend as rt
-from rtweekend.materials import dielectric_scatter
-from rtweekend.rng import seed_state
+from rtweekend.kernel.rng import seed_state
+from rtweekend.path.materials import dielectric_scatter
 
-from test_accuracy import _assert_expected, furnace
+from test_accuracy import assert_expected, furnace
 
 
 # 1. Sphere-light pdf from inside or on the sphere (cornell_glass's glass ball
@@ -26,7 +26,7 @@ def test_shading_points_inside_a_sphere_light(sampling):
     assert glass in scene.lights
     r = rt.render(scene, spp=32, sampling=sampling, seed=1)
     assert r.stats.nan_dropped == 0 and np.isfinite(r.image).all()
-    _assert_expected(r.image, r.stderr, 0.6, "lambertian inside a sphere light")
+    assert_expected(r.image, r.stderr, 0.6, "lambertian inside a sphere light")
 
 
 def test_light_sphere_touching_the_floor():
@@ -161,7 +161,7 @@ def test_camera_inside_a_glass_ball_sees_the_furnace():
     scene.camera = rt.Camera(lookfrom=(0, 0, 0.5), lookat=(0, 0, 0), vfov=90,
                              width=12, height=12)
     r = rt.render(scene, spp=32, seed=7)
-    _assert_expected(r.image, r.stderr, 1.0, "camera inside glass")
+    assert_expected(r.image, r.stderr, 1.0, "camera inside glass")
 
 
 @pytest.mark.parametrize("kwargs, message", [

@@ -5,8 +5,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from rtweekend import vec3
-from rtweekend.materials import schlick
+from rtweekend.kernel import vec3
+from rtweekend.path.materials import schlick
 
 angles = st.floats(0.0, 2 * math.pi)
 

@@ -1,20 +1,14 @@
-"""The classic integrator's side of a scene: its lights, the book's camera, and
-rendering a Scene with classic.py.
+"""The classic integrator's side of a scene description: Computer Graphics from
+Scratch's white lights and its camera.
 
     scene = Scene(camera=ClassicCamera(width=600, height=600), max_depth=3)
     scene.add(sphere((0, -1, 3), 1, phong((255, 0, 0), specular=500, reflective=0.2)))
     scene.lights += [ambient(0.2), point(0.6, (2, 1, 0)), directional(0.2, (1, 4, 4))]
 """
-import time
 from dataclasses import dataclass
 
-import numba
-import numpy as np
-
 from . import fields
-from .classic import classic_arrays, render_canvas
-from .errors import FieldError, SceneError
-from .result import RenderResult, RenderStats
+from ..errors import FieldError, SceneError
 
 
 @dataclass(frozen=True, eq=False)
@@ -80,39 +74,7 @@ class ClassicCamera:
             set_(self, "viewport", tuple(fields.number(v, "viewport", lo=0.0, lo_open=True)
                                          for v in vp))
             set_(self, "d", fields.number(self.d, "d", lo=0.0, lo_open=True))
-            set_(self, "width", fields.integer(self.width, "width", hi=65536))
-            set_(self, "height", fields.integer(self.height, "height", hi=65536))
+            set_(self, "width", fields.integer(self.width, "width", hi=fields.MAX_SIZE))
+            set_(self, "height", fields.integer(self.height, "height", hi=fields.MAX_SIZE))
         except FieldError as e:
             raise SceneError(f"camera: {e}") from None
-
-
-def render_classic_scene(scene, *, width=None, height=None, max_depth=None):
-    """Render with the classic integrator: one ray per pixel, no tone map.
-
-    The image holds the canvas colour / 255 (what the PNG stores exactly).
-    """
-    camera = scene.resolved_camera()
-    w = width or camera.width
-    h = height or camera.height
-    depth = scene.resolved_max_depth() if max_depth is None else max_depth
-    spheres = [dict(center=c, radius=r, color=m.color, specular=m.param,
-                    reflective=m.reflective) for c, r, m in scene.classic_spheres()]
-    lights = [dict(type=lt.kind, intensity=lt.intensity,
-                   **({"position": lt.vector} if lt.kind == "point" else
-                      {"direction": lt.vector} if lt.kind == "directional" else {}))
-              for lt in scene.lights]
-    arrays = classic_arrays(spheres, lights)
-    options = dict(background=scene.resolved_background(), position=camera.position,
-                   rotation=camera.rotation, viewport=camera.viewport, d=camera.d)
-    t0 = time.perf_counter()
-    render_canvas(*arrays, 1, 1, depth, **options)          # compile / load the cache
-    t1 = time.perf_counter()
-    rays = np.zeros(h, dtype=np.int64)
-    canvas = render_canvas(*arrays, w, h, depth, rays=rays, **options)
-    t2 = time.perf_counter()
-    stats = RenderStats(width=w, height=h, spp=1, spp_requested=1, seconds=t2 - t1,
-                        compile_seconds=t1 - t0, samples=w * h, rays=int(rays.sum()),
-                        nan_dropped=0, interrupted=False, threads=numba.get_num_threads(),
-                        seed=0, integrator="classic")
-    image = canvas.astype(np.float32) / np.float32(255.0)
-    return RenderResult(image, stats, np.zeros_like(image), display="canvas")

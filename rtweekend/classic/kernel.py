@@ -7,7 +7,7 @@ the book's camera (position + 3x3 rotation).  One ray per pixel, no gamma.
 Flat arrays (classic_arrays builds them from plain Python data):
   sph_f[k]   float64 [N, 9] = center(0:3), radius(3), color r,g,b (4:7, 0..255),
                               specular exponent(7, -1 = matte), reflective(8, 0..1)
-  light_i[j] int64 [L]      = kind: tags.AMBIENT, tags.POINT or tags.DIRECTIONAL
+  light_i[j] int64 [L]      = kind: AMBIENT, POINT or DIRECTIONAL
   light_f[j] float64 [L, 4] = intensity(0), position (point) or direction
                               (directional) (1:4); (1:4) unused for ambient
 
@@ -28,11 +28,15 @@ import math
 import numba
 import numpy as np
 
-from .jit import jit, jit_parallel
-from .rows import interleaved_rows
-from .tags import AMBIENT, DIRECTIONAL, NO_HIT, POINT
-from .vec3 import dot, length, madd, neg, scale, sub, unit
+from ..kernel.jit import jit, jit_parallel
+from ..kernel.rows import interleaved_rows
+from ..kernel.vec3 import dot, length, madd, neg, scale, sub, unit
 
+# Light kinds (light_i).
+AMBIENT = 0
+POINT = 1
+DIRECTIONAL = 2
+NO_HIT = -1         # closest_intersection found no sphere
 INF = math.inf
 EPSILON = 0.001     # the book's t_min for rays that leave a surface
 SPH_FLOATS = 9
@@ -44,7 +48,7 @@ LIGHT_KINDS = {"ambient": AMBIENT, "point": POINT, "directional": DIRECTIONAL}
 def intersect_ray_sphere(sph_f, k, o, d):
     """IntersectRaySphere: both roots t of |o + t d - center|^2 = r^2, or (inf, inf).
 
-    Not hittables.sphere_t: that one assumes a unit d and t > 0, while the book's
+    Not the path tracer's sphere root: that one assumes a unit d and t > 0, while the book's
     D is the unnormalised viewport point and its rays start at t = 1 or 0.001.
     The book's k2 = 2<OC,D> is halved here; the factors of 2 cancel exactly.
     """

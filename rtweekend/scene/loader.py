@@ -11,10 +11,12 @@ from importlib import resources
 from pathlib import Path
 
 from . import fields
-from .errors import FieldError, SceneError
-from .classic_scene import LIGHTS, ClassicCamera
-from .scene import INTEGRATORS, Camera, Scene, background_radiance
-from .shapes import MATERIALS, SHAPES, _label
+from ..errors import FieldError, SceneError, label
+from .camera import Camera
+from .classic import LIGHTS, ClassicCamera
+from .materials import MATERIALS
+from .scene import INTEGRATORS, Scene
+from .shapes import SHAPES
 
 TOP_KEYS = ("description", "integrator", "lights", "camera", "render", "materials",
             "objects")
@@ -32,7 +34,7 @@ def bundled_dir():
     try:
         return resources.files("rtweekend.scenes")
     except ModuleNotFoundError:
-        return Path(__file__).resolve().parent.parent / "scenes"
+        return Path(__file__).resolve().parent.parent.parent / "scenes"
 
 
 def bundled_scenes():
@@ -88,11 +90,17 @@ SYNONYMS = {"samples_per_pixel": "spp", "samples": "spp", "depth": "max_depth",
             "origin": "lookfrom", "eye": "lookfrom", "target": "lookat"}
 
 
+def did_you_mean(word, candidates):
+    """" (did you mean 'x'?)" for the book's synonym or the closest candidate, or ""."""
+    candidates = list(candidates)
+    close = [SYNONYMS[word]] if SYNONYMS.get(word) in candidates else \
+        difflib.get_close_matches(word, candidates, n=1)
+    return f" (did you mean '{close[0]}'?)" if close else ""
+
+
 def _unknown(key, allowed):
-    close = [SYNONYMS[key]] if SYNONYMS.get(key) in allowed else \
-        difflib.get_close_matches(key, allowed, n=1)
-    hint = f" (did you mean '{close[0]}'?)" if close else ""
-    return f"unknown field '{key}'{hint}; expected one of: {', '.join(allowed)}"
+    return f"unknown field '{key}'{did_you_mean(key, allowed)}; expected one of: " \
+        + ", ".join(allowed)
 
 
 class _Loader:
@@ -190,7 +198,7 @@ class _Loader:
                 if classic:
                     fields.color(scene.background, "background", hi=255.0)
                 else:
-                    background_radiance(scene.background)
+                    fields.background(scene.background)
         except FieldError as e:
             raise self.fail("render", str(e)) from None
 
@@ -209,18 +217,22 @@ class _Loader:
             out[name] = self.material(spec, f"materials.{name}", name)
         return out
 
-    def call(self, builder, args, extra_keys, what, name=None):
-        """Call builder.raw with the table's fields, checking names first."""
-        params = [p for p in inspect.signature(builder.raw).parameters.values()
-                  if p.kind is not inspect.Parameter.VAR_KEYWORD]
-        allowed = [p.name for p in params if p.name != "name"]
+    def check_signature(self, fn, args, extra_keys, what):
+        """The table's fields against fn's parameters: none unknown, none missing
+        (`name` is the object's own and never a field of fn)."""
+        params = [p for p in inspect.signature(fn).parameters.values()
+                  if p.kind is not inspect.Parameter.VAR_KEYWORD and p.name != "name"]
+        allowed = [p.name for p in params]
         for key in args:
             if key not in allowed:
                 raise self.fail(what, _unknown(key, list(extra_keys) + allowed))
         for p in params:
-            if p.name != "name" and p.default is inspect.Parameter.empty \
-                    and p.name not in args:
+            if p.default is inspect.Parameter.empty and p.name not in args:
                 raise self.fail(what, f"{p.name}: missing (required)")
+
+    def call(self, builder, args, extra_keys, what, name=None):
+        """Call builder.raw with the table's fields, checking names first."""
+        self.check_signature(builder.raw, args, extra_keys, what)
         try:
             return builder.raw(**args, name=name)
         except FieldError as e:
@@ -236,15 +248,14 @@ class _Loader:
         if not isinstance(kind, str) or kind not in SHAPES:
             hint = f"{kind!r} is not an object type" if kind is not None else "missing"
             raise self.fail(what, f"type: {hint}; expected one of: {', '.join(SHAPES)}")
-        what = f"{what} ({_label(kind, name)})"
+        what = f"{what} ({label(kind, name)})"
         if "material" not in spec:
             raise self.fail(what, "material: missing (required)")
         mat = spec["material"]
         if isinstance(mat, str):
             if mat not in materials:
-                close = difflib.get_close_matches(mat, list(materials), n=1)
-                hint = f" (did you mean '{close[0]}'?)" if close else ""
-                raise self.fail(what, f"material: no material named '{mat}'{hint}")
+                raise self.fail(what, f"material: no material named '{mat}'"
+                                + did_you_mean(mat, materials))
             mat = materials[mat]
         else:
             mat = self.material(mat, f"{what} material")
@@ -275,9 +286,8 @@ class _Loader:
                 raise self.fail(f"lights[{j}]", f"expected an object name or a table, "
                                 f"got {entry!r}")
             if entry not in named:
-                close = difflib.get_close_matches(entry, list(named), n=1)
-                hint = f" (did you mean '{close[0]}'?)" if close else ""
-                raise self.fail(f"lights[{j}]", f"no object named '{entry}'{hint}")
+                raise self.fail(f"lights[{j}]", f"no object named '{entry}'"
+                                + did_you_mean(entry, named))
             shape = named[entry]
             if shape.kind == "box":
                 raise self.fail(f"lights[{j}]", f"'{entry}' is a box; the light pdf "
@@ -290,13 +300,7 @@ class _Loader:
             hint = f"{kind!r} is not a light type" if kind is not None else "missing"
             raise self.fail(what, f"type: {hint}; expected one of: {', '.join(LIGHTS)}")
         args = {k: v for k, v in spec.items() if k != "type"}
-        params = list(inspect.signature(LIGHTS[kind]).parameters)
-        for key in args:
-            if key not in params:
-                raise self.fail(f"{what} ({kind})", _unknown(key, ["type"] + params))
-        for p in params:
-            if p not in args:
-                raise self.fail(f"{what} ({kind})", f"{p}: missing (required)")
+        self.check_signature(LIGHTS[kind], args, ("type",), f"{what} ({kind})")
         try:
             return LIGHTS[kind](**args)
         except SceneError as e:

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .errors import SceneError
+from ..errors import SceneError
 
 LDR = (".png", ".jpg", ".jpeg", ".bmp", ".tga")   # tone-mapped, 8 bits
 HDR = (".npy", ".exr")                             # linear radiance, float32

@@ -3,7 +3,7 @@ raises FieldError naming the field.  Shared by the builder and the loader."""
 import math
 import numbers
 
-from .errors import FieldError
+from ..errors import FieldError
 
 
 # Intersection tests square coordinates and radii: beyond this they overflow.
@@ -84,3 +84,18 @@ def text(value, field):
     if not isinstance(value, str):
         raise FieldError(field, f"expected a string, got {_show(value)}")
     return value
+
+
+# Pixels per side, a sanity bound (65536^2 would need ~200 GB of sums).
+MAX_SIZE = 65536
+SKY = "sky"
+
+
+def background(value, field="background"):
+    """The path tracer's background: an RGB radiance triple or "sky" (book 1's
+    gradient); returned as given, validated."""
+    if isinstance(value, str):
+        if value != SKY:
+            raise FieldError(field, f'expected [r, g, b] or "sky", got "{value}"')
+        return SKY
+    return color(value, field)

@@ -15,29 +15,31 @@ bvh_box[i]  = (min x, y, z, max x, y, z)
 bvh_node[i] = (first, count, miss): a leaf holds objects bvh_prims[first:first+count];
               an inner node has count 0.
 The split is the binned surface-area heuristic (pbrt's BVHAggregate, Wald 2007).
+closest_hit walks it (or, for small scenes, tests every object).
 """
+import math
+
 import numpy as np
 
-from .tags import SPHERE
+from ..kernel.jit import jit, jit_inline, like
+from . import shapes
+from .layout import NO_HIT, OBJ_KIND
 
+INF = math.inf
 LEAF_SIZE = 4         # at most this many objects per leaf
 BINS = 16             # centroid bins per axis for the SAH
 TRAVERSAL_COST = 1.0  # cost of a box test relative to an object test
+# From this many primitives on, the BVH beats testing every object (whose loop
+# Numba compiles tightly): measured per scene in benchmarks/results/measurements.md.
+BVH_MIN_OBJECTS = 12
 
 
 def object_bounds(obj_i, obj_f):
     """[N, 6] boxes around the objects (zero-thickness rects padded a hair)."""
     lo = np.empty((len(obj_i), 3))
     hi = np.empty((len(obj_i), 3))
-    for k, (kind, _) in enumerate(obj_i):
-        f = obj_f[k]
-        if kind == SPHERE:
-            r = abs(f[3])
-            lo[k], hi[k] = f[0:3] - r, f[0:3] + r
-        else:
-            q, u, v = f[0:3], f[3:6], f[6:9]
-            corners = np.array([q, q + u, q + v, q + u + v])
-            lo[k], hi[k] = corners.min(axis=0), corners.max(axis=0)
+    for k in range(len(obj_i)):
+        lo[k], hi[k] = shapes.bounds(obj_i[k, OBJ_KIND], obj_f[k])
     pad = 1e-9 * np.maximum(np.abs(lo).max(axis=1, initial=1.0),
                             np.abs(hi).max(axis=1, initial=1.0))[:, None]
     return np.hstack([lo - pad, hi + pad])
@@ -112,3 +114,63 @@ def build_bvh(obj_i, obj_f):
 def empty_bvh():
     """No hierarchy: closest_hit tests every object (small scenes)."""
     return np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
+
+
+@jit
+def reciprocal(x):
+    """1/x, with 1/0 = inf of the same sign, under any error model (in x's precision)."""
+    return like(x, 1.0) / x if x != 0.0 else math.copysign(like(x, INF), x)
+
+
+@jit_inline
+def box_entry(bvh_box, i, o, inv_d, t_max):
+    """Does the ray enter box i before t_max?  (slab test, inv_d = 1 / d)"""
+    t0 = (bvh_box[i, 0] - o[0]) * inv_d[0]
+    t1 = (bvh_box[i, 3] - o[0]) * inv_d[0]
+    near, far = min(t0, t1), max(t0, t1)
+    t0 = (bvh_box[i, 1] - o[1]) * inv_d[1]
+    t1 = (bvh_box[i, 4] - o[1]) * inv_d[1]
+    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
+    t0 = (bvh_box[i, 2] - o[2]) * inv_d[2]
+    t1 = (bvh_box[i, 5] - o[2]) * inv_d[2]
+    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
+    return near <= far and far > 0.0 and near < t_max
+
+
+@jit_inline
+def closest_hit(scene, o, d, t_max, from_obj, from_inside):
+    """(object index, t) of the nearest hit before t_max, or (NO_HIT, inf), for a
+    ray leaving object from_obj (NO_HIT: none; from_inside: into its ball).
+
+    With an empty BVH every object is tested; otherwise the stackless walk
+    described above.
+    """
+    bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
+    best = NO_HIT
+    # One loop for both cases, so shapes.distance is inlined at one call site
+    # only (each inlined copy costs compile time): no BVH is a single leaf node.
+    no_bvh = bvh_node.shape[0] == 0
+    n_nodes = 1 if no_bvh else bvh_node.shape[0]
+    inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
+    i = 0
+    while i < n_nodes:
+        if no_bvh:
+            first, count, after = 0, scene.obj_i.shape[0], 1
+        elif box_entry(bvh_box, i, o, inv_d, t_max):
+            count = bvh_node[i, 1]
+            if count == 0:
+                i += 1                      # inner node: on to its left child
+                continue
+            first, after = bvh_node[i, 0], bvh_node[i, 2]
+        else:
+            i = bvh_node[i, 2]
+            continue
+        for j in range(first, first + count):
+            k = j if no_bvh else bvh_prims[j]
+            t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside)
+            if t < t_max:
+                t_max = t
+                best = k
+        i = after
+    return best, t_max
+

@@ -1,0 +1,50 @@
+"""render(): one entry point for every scene, integrator and driver.
+
+The options are validated once (options.py); the scene's contents choose the
+integrator (the classic ray tracer or the path tracer); for the path tracer,
+`client` chooses the driver: this machine (local.py) or a Dask cluster
+(distributed/), over the same Renderer, with the same bits.
+"""
+from .classic.render import render_classic
+from .distributed import client as dask_driver
+from .distributed.cluster import check_render
+from .local import render_locally
+from .options import RenderOptions
+from .path.renderer import Renderer
+
+
+def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
+           max_depth=None, threads=None, sampling=None, progress=False, bvh=None,
+           clamp=None, client=None):
+    """Render `scene`; returns RenderResult, which unpacks as (image, stats).
+
+    A classic (Computer Graphics from Scratch) scene is ray traced once per
+    pixel; width, height, max_depth (its recursion depth) and threads apply,
+    the sampling options do not.  Otherwise the scene is path traced:
+
+    spp: samples per pixel (default: the scene's); time: render passes until
+    this many seconds are spent instead.  sampling: "mixture" (The Rest of Your
+    Life, default), "cosine" (The Next Week) or "light" (lights only; misses
+    indirect light).  progress: True for a bar on stderr, or a callable
+    progress(spp_done, spp_total_or_None, samples_per_s).  bvh: force the
+    hierarchy on (True) or off (False); by default scenes with many objects use it.
+    clamp: cap every sample's channels at this value (biased: it removes energy;
+    off by default).  Ctrl-C finishes the current pass and returns what was rendered
+    (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt.
+    client: a dask.distributed Client: render blocks of samples on its workers
+    instead, bit-identical to rendering here (rtweekend.distributed).
+    """
+    integrator = scene.resolved_integrator()
+    if client is not None:
+        check_render(scene, threads)
+    options = RenderOptions(integrator, spp=spp, time=time, seed=seed, width=width,
+                            height=height, max_depth=max_depth, threads=threads,
+                            sampling=sampling, clamp=clamp, bvh=bvh, progress=progress)
+    if integrator == "classic":
+        return render_classic(scene, options)
+    renderer = Renderer(scene, options)
+    if spp is None and time is None:
+        spp = scene.spp
+    if client is not None:
+        return dask_driver.render_on_cluster(client, renderer, spp, time)
+    return render_locally(renderer, spp, time)

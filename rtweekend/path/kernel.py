@@ -1,0 +1,15 @@
+"""The path tracer's only parallel code: one prange over image rows."""
+import numba
+
+from ..kernel.jit import jit_parallel
+from .integrator import render_row
+
+
+@jit_parallel
+def render_pass(film, scene, params, rows, s0, s1):
+    """Add samples s0..s1-1 of every pixel to the film; rows[k] spreads the
+    work over threads (kernel/rows.py).  Each row is written by one thread
+    only, and every sum is in sample order, so the film is the same whatever
+    the thread count."""
+    for k in numba.prange(rows.shape[0]):
+        render_row(rows[k], film, scene, params, s0, s1)

@@ -1,0 +1,80 @@
+"""What the path tracer's kernels read: the tags, the shared columns, and the
+NamedTuples that carry the arrays.
+
+The kernels take three NamedTuples of flat arrays and scalars (named, so a
+kernel reads `scene.obj_f`, never the 20th positional argument):
+
+  SceneArrays  the objects, materials, lights, background and BVH (here)
+  PathParams   the camera, image size, seed, depth, sampling and clamp (here)
+  Film         the running sums of an image (film.py)
+
+Objects (primitives) are rows of obj_i (kind tag, material) and obj_f (the
+kind's own floats: each kind module in shapes/ names its columns and packs its
+row).  Materials are mat_i (kind tag) and mat_f (colour, parameter).  Tags are
+small integers because Numba branches on them; the description layer names
+kinds with strings, and pack.py maps one to the other when it freezes a Scene.
+This module imports nothing of the renderer, so any kernel module can use it.
+"""
+from typing import NamedTuple
+
+import numpy as np
+
+# -- tags ------------------------------------------------------------------------
+
+# Primitive kinds (obj_i[:, OBJ_KIND]); shapes/__init__.py dispatches on them.
+SPHERE = 0
+RECT = 1
+PRIMITIVE_KINDS = (SPHERE, RECT)
+
+# Material kinds (mat_i), by the description's names; materials.py dispatches on them.
+LAMBERTIAN = 0
+METAL = 1
+DIELECTRIC = 2
+DIFFUSE_LIGHT = 3
+MATERIAL_TAGS = {"lambertian": LAMBERTIAN, "metal": METAL, "dielectric": DIELECTRIC,
+                 "diffuse_light": DIFFUSE_LIGHT}
+
+# Background kinds.
+BG_COLOR = 0
+BG_SKY = 1
+
+# "No object": closest_hit found nothing / a ray that starts at no surface.
+NO_HIT = -1
+
+# -- columns -----------------------------------------------------------------------
+
+# obj_i
+OBJ_KIND = 0
+OBJ_MAT = 1
+OBJ_INTS = 2
+# obj_f: as wide as the widest kind's row (each kind's columns: shapes/<kind>.py)
+OBJ_FLOATS = 20
+# mat_f
+MAT_COLOR = 0        # 0:3 albedo, or emitted radiance
+MAT_PARAM = 3        # metal: fuzz; dielectric: index of refraction
+MAT_FLOATS = 4
+
+
+class SceneArrays(NamedTuple):
+    """What the path-tracing kernel reads of a scene; plain arrays, picklable."""
+    obj_i: np.ndarray      # int64 [N, OBJ_INTS]: kind, material
+    obj_f: np.ndarray      # float64 [N, OBJ_FLOATS]
+    mat_i: np.ndarray      # int64 [M]: kind
+    mat_f: np.ndarray      # float64 [M, MAT_FLOATS]: colour, parameter
+    lights: np.ndarray     # int64 [L]: object indices the light pdf samples
+    bg_kind: int           # BG_COLOR or BG_SKY
+    bg: np.ndarray         # float64 [3]: the background's radiance (BG_COLOR)
+    bvh_box: np.ndarray    # the hierarchy (bvh.py); empty for small scenes
+    bvh_node: np.ndarray
+    bvh_prims: np.ndarray
+
+
+class PathParams(NamedTuple):
+    """The render's parameters, as the kernel reads them."""
+    cam: np.ndarray        # float64 [CAM_FLOATS] (camera.py)
+    width: int
+    height: int
+    seed: int
+    max_depth: int         # ray segments per path
+    light_weight: float    # the mixture's share of light sampling (pdf.py)
+    clamp: float           # cap on each sample's channels; inf: none

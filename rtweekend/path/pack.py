@@ -1,0 +1,87 @@
+"""Freezing a Scene into the arrays the path tracer's kernels read (layout.py).
+
+A box becomes six rects with outward normals (so a glass box refracts on every
+side); rects and spheres are placed in the world (rotate_y, then translate);
+each primitive's row is packed by its kind's module (shapes/<kind>.py).
+"""
+import numpy as np
+
+from ..errors import SceneError
+from ..scene.fields import SKY
+from . import bvh as hierarchy
+from .layout import (BG_COLOR, BG_SKY, MAT_FLOATS, MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS,
+                     PRIMITIVE_KINDS, RECT, SPHERE, SceneArrays)
+from .shapes import rect, sphere
+
+
+def _box_faces(lo, hi):
+    """Six (rect kind, geometry, flipped): the +axis faces as the book's rects,
+    the -axis faces flipped, so every normal points out of the box."""
+    (x0, y0, z0), (x1, y1, z1) = lo, hi
+    return [("xy_rect", (x0, x1, y0, y1, z1), False), ("xy_rect", (x0, x1, y0, y1, z0), True),
+            ("xz_rect", (x0, x1, z0, z1, y1), False), ("xz_rect", (x0, x1, z0, z1, y0), True),
+            ("yz_rect", (y0, y1, z0, z1, x1), False), ("yz_rect", (y0, y1, z0, z1, x0), True)]
+
+
+def primitives(shape):
+    """[(kind tag, obj_f row)] of one shape, placed in the world."""
+    rot, offset = shape.placement()
+    row = np.zeros(OBJ_FLOATS)
+    if shape.kind == "sphere":
+        center, radius = shape.geometry
+        sphere.pack(rot @ np.asarray(center) + offset, -radius if shape.flipped else radius,
+                    row)
+        return [(SPHERE, row)]
+    if shape.kind == "box":
+        faces = _box_faces(*shape.geometry)
+    else:
+        faces = [(shape.kind, shape.geometry, False)]
+    out = []
+    for kind, geometry, flip in faces:
+        q, u, v = rect.axis_frame(kind, geometry)
+        if flip != shape.flipped:
+            u, v = v, u     # swapping the edges reverses u x v, the front side
+        row = np.zeros(OBJ_FLOATS)
+        rect.pack(rot @ np.asarray(q) + offset, rot @ np.asarray(u), rot @ np.asarray(v), row)
+        out.append((RECT, row))
+    return out
+
+
+def pack_background(value):
+    """(kind, rgb array) for a validated background: an RGB triple or "sky"."""
+    if isinstance(value, str) and value == SKY:
+        return BG_SKY, np.zeros(3)
+    return BG_COLOR, np.array(value, dtype=np.float64)
+
+
+def pack_scene(scene, bvh=None):
+    """The SceneArrays of a path-traced Scene (validated here).
+
+    bvh: build a hierarchy (True), test every object (False), or decide by the
+    number of primitives (None: from bvh.BVH_MIN_OBJECTS on).
+    """
+    scene.check()
+    if scene.resolved_integrator() != "path":
+        raise SceneError("this scene is rendered by the classic integrator")
+    materials, mat_index = [], {}
+    obj_i, obj_f, first = [], [], {}
+    for shape in scene.objects:
+        m = mat_index.setdefault(id(shape.material), len(materials))
+        if m == len(materials):
+            materials.append(shape.material)
+        first[id(shape)] = len(obj_i)
+        for kind, row in primitives(shape):
+            assert kind in PRIMITIVE_KINDS     # the kernels' dispatch knows no other
+            obj_i.append((kind, m))
+            obj_f.append(row)
+    mat_i = np.array([MATERIAL_TAGS[mt.kind] for mt in materials], dtype=np.int64)
+    mat_f = np.array([(*mt.color, mt.param) for mt in materials], dtype=np.float64)
+    lights = np.array([first[id(s)] for s in scene.lights], dtype=np.int64)
+    bg_kind, bg = pack_background(scene.resolved_background())
+    obj_i = np.array(obj_i, dtype=np.int64).reshape(-1, OBJ_INTS)
+    obj_f = np.array(obj_f, dtype=np.float64).reshape(-1, OBJ_FLOATS)
+    if bvh is None:
+        bvh = len(obj_i) >= hierarchy.BVH_MIN_OBJECTS
+    tree = hierarchy.build_bvh(obj_i, obj_f) if bvh else hierarchy.empty_bvh()
+    return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights,
+                       bg_kind, bg, *tree)

@@ -1,0 +1,135 @@
+"""A path-traced image being rendered: the frozen scene and the running film.
+
+    r = Renderer(scene, seed=1)
+    r.compile()
+    r.add_samples(4); r.add_samples(12)    # 16 spp, bit-identical to one pass of 16
+    image, stats = r.result()
+
+Drivers decide when to add samples: the local one (local.py) in passes on this
+machine, the Dask one (distributed/) by merging blocks rendered elsewhere.
+"""
+import math
+import time as _time
+from typing import NamedTuple
+
+import numba
+import numpy as np
+
+from ..kernel.jit import collector_paused
+from ..kernel.rows import interleaved_rows
+from ..options import RenderOptions, thread_count
+from ..result import RenderResult, RenderStats
+from . import film as films
+from .camera import pack_camera
+from .film import BLOCK_SPP, DROPPED, SEGMENTS
+from .kernel import render_pass
+from .layout import PathParams, SceneArrays
+from .pack import pack_scene
+
+
+class Frame(NamedTuple):
+    """Everything a pass needs, frozen and picklable (sent once to each worker)."""
+    scene: SceneArrays
+    params: PathParams
+    rows: np.ndarray        # the order rows go to threads
+
+    @property
+    def width(self):
+        return self.params.width
+
+    @property
+    def height(self):
+        return self.params.height
+
+
+def freeze(scene, options):
+    """The Frame for rendering `scene` with validated RenderOptions."""
+    changes = {k: v for k, v in (("width", options.width), ("height", options.height))
+               if v is not None}
+    if changes:
+        scene = scene.with_camera(**changes)
+    arrays = pack_scene(scene, bvh=options.bvh)
+    camera = scene.resolved_camera()
+    max_depth = scene.resolved_max_depth() if options.max_depth is None else options.max_depth
+    params = PathParams(cam=pack_camera(camera), width=camera.width, height=camera.height,
+                        seed=options.seed, max_depth=max_depth,
+                        light_weight=options.light_weight if len(arrays.lights) else 0.0,
+                        clamp=options.clamp_value)
+    return Frame(arrays, params, interleaved_rows(camera.height))
+
+
+def render_samples(frame, film, s0, s1):
+    """Add samples s0 .. s1 - 1 of every pixel to `film`."""
+    render_pass(film, frame.scene, frame.params, frame.rows, s0, s1)
+
+
+def block_film(frame, s0, s1):
+    """A fresh film of samples s0 .. s1 - 1, s0 on a block boundary (for workers)."""
+    if s0 % BLOCK_SPP:
+        raise ValueError(f"block_film: s0 = {s0} is not a multiple of {BLOCK_SPP}")
+    film = films.new_film(frame.height, frame.width)
+    render_samples(frame, film, s0, s1)
+    return film
+
+
+class Renderer:
+    """One image being rendered: the frozen scene and the running film.
+
+    Renderer(scene, options) or Renderer(scene, seed=1, width=64, ...) with the
+    fields of RenderOptions.
+    """
+
+    def __init__(self, scene, options=None, **fields):
+        if options is None:
+            options = RenderOptions("path", **fields)
+        elif fields:
+            raise TypeError("Renderer: give options or fields, not both")
+        self.options = options
+        self.frame = freeze(scene, options)
+        self.width, self.height = self.frame.width, self.frame.height
+        self.film = films.new_film(self.height, self.width)
+        self.spp = 0               # samples per pixel so far
+        self.seconds = 0.0         # time spent in passes
+        self.compile_seconds = 0.0
+        self.threads = None        # Numba threads of the last pass here
+
+    def compile(self):
+        """Compile the kernel (or load it from the cache) with no samples."""
+        t0 = _time.perf_counter()
+        with collector_paused(), thread_count(self.options.threads):
+            render_samples(self.frame, self.film, 0, 0)
+        self.compile_seconds = _time.perf_counter() - t0
+        return self.compile_seconds
+
+    def add_samples(self, n):
+        """Render samples spp .. spp + n - 1 of every pixel here, with the options'
+        threads (None: as many as Numba has); returns the seconds."""
+        with thread_count(self.options.threads) as self.threads:
+            t0 = _time.perf_counter()
+            render_samples(self.frame, self.film, self.spp, self.spp + n)
+            dt = _time.perf_counter() - t0
+        self.spp += n
+        self.seconds += dt
+        return dt
+
+    def merge(self, film, spp):
+        """Add a film of the samples from self.spp up to `spp`, rendered elsewhere."""
+        films.merge(self.film, film)
+        self.spp = spp
+
+    def result(self, *, spp_requested=None, interrupted=False, threads=None, stopped_by=None):
+        image, stderr = films.mean_and_stderr(self.film)
+        fireflies, firefly_energy = films.firefly_stats(self.film, float(image.mean()))
+        row_stats = self.film.row_stats
+        clamp = self.frame.params.clamp
+        stats = RenderStats(
+            width=self.width, height=self.height, spp=self.spp,
+            spp_requested=spp_requested, seconds=self.seconds,
+            compile_seconds=self.compile_seconds, samples=self.width * self.height * self.spp,
+            rays=int(row_stats[:, SEGMENTS].sum()), nan_dropped=int(row_stats[:, DROPPED].sum()),
+            interrupted=interrupted,
+            threads=threads or self.threads or numba.get_num_threads(),
+            seed=self.frame.params.seed, fireflies=fireflies, firefly_energy=firefly_energy,
+            clamp=None if math.isinf(clamp) else clamp,
+            stopped_by=stopped_by if interrupted else None)
+        return RenderResult(image, stats, stderr)

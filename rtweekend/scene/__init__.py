@@ -1,0 +1,15 @@
+"""The description layer: scenes as plain Python values, validated, and the TOML
+loader.  Nothing here imports a kernel: each integrator freezes a Scene into
+the arrays its kernels read."""
+from .camera import Camera
+from .classic import ClassicCamera, ClassicLight, ambient, directional, point
+from .fields import SKY
+from .loader import bundled_scenes, load_scene, scene_from_dict
+from .materials import Material, dielectric, diffuse_light, lambertian, metal, phong
+from .scene import Scene
+from .shapes import Shape, box, sphere, xy_rect, xz_rect, yz_rect
+
+__all__ = ["Camera", "ClassicCamera", "ClassicLight", "SKY", "Material", "Scene", "Shape",
+           "ambient", "box", "bundled_scenes", "dielectric", "diffuse_light", "directional",
+           "lambertian", "load_scene", "metal", "phong", "point", "scene_from_dict",
+           "sphere", "xy_rect", "xz_rect", "yz_rect"]

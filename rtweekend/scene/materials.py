@@ -1,0 +1,67 @@
+"""Materials as plain Python values, built the way the books' main.cc builds them:
+
+    white = lambertian((.73, .73, .73))
+    light = diffuse_light((15, 15, 15))
+
+Each builder checks its fields and raises SceneError naming the material and the
+field.  `kind` is the material's name as written in a scene file.
+"""
+from dataclasses import dataclass
+
+from . import fields
+from ..errors import FieldError, checked
+
+
+@dataclass(frozen=True, eq=False)
+class Material:
+    kind: str             # "lambertian", "metal", ... (the builder's name)
+    color: tuple          # albedo, or emitted radiance; phong: 0..255 colour
+    param: float = 0.0    # metal: fuzz; dielectric: ior; phong: specular exponent
+    name: str | None = None
+    reflective: float = 0.0   # phong only: the mirror's share, in [0, 1]
+
+
+@checked("lambertian")
+def lambertian(albedo, *, name=None):
+    return Material("lambertian", fields.color(albedo, "albedo", hi=1.0), 0.0, name)
+
+
+@checked("metal")
+def metal(albedo, fuzz=0.0, *, name=None):
+    # The book clamps fuzz to 1; a negative fuzz is a mistake, not a clamp.
+    fuzz = min(fields.number(fuzz, "fuzz", lo=0.0), 1.0)
+    return Material("metal", fields.color(albedo, "albedo", hi=1.0), fuzz, name)
+
+
+@checked("dielectric")
+def dielectric(ior, *, name=None):
+    return Material("dielectric", (1.0, 1.0, 1.0),
+                    fields.number(ior, "ior", lo=0.0, lo_open=True), name)
+
+
+@checked("diffuse_light")
+def diffuse_light(emit, *, name=None):
+    return Material("diffuse_light", fields.color(emit, "emit"), 0.0, name)
+
+
+@checked("phong")
+def phong(color, specular=-1, reflective=0.0, *, name=None):
+    """Computer Graphics from Scratch's material (classic integrator only):
+    a 0..255 colour, a Phong exponent (-1: matte) and a mirror share."""
+    specular = fields.number(specular, "specular")
+    if specular < 0 and specular != -1:
+        raise FieldError("specular", f"must be -1 (matte) or >= 0, got {specular:g}")
+    return Material("phong", fields.color(color, "color", hi=255.0), specular, name,
+                    fields.number(reflective, "reflective", lo=0.0, hi=1.0))
+
+
+# The builders by kind, for the loader: the path tracer's, then the classic one.
+MATERIALS = {f.kind: f for f in (lambertian, metal, dielectric, diffuse_light, phong)}
+CLASSIC_MATERIALS = ("phong",)
+
+
+def check_material(value):
+    """A shape's material field: a Material, else FieldError."""
+    if not isinstance(value, Material):
+        raise FieldError("material", f"expected a material, got {type(value).__name__}")
+    return value
