@@ -1,0 +1,77 @@
+"""The package's layout holds: layers import downwards, every kind is dispatched,
+and the install finds every subpackage."""
+import ast
+import inspect
+import tomllib
+from pathlib import Path
+
+import pytest
+
+import rtweekend
+from rtweekend.path import layout, shapes
+from rtweekend.scene.materials import CLASSIC_MATERIALS, MATERIALS
+
+PACKAGE = Path(rtweekend.__file__).resolve().parent
+REPO = PACKAGE.parent
+
+
+def _imports(path):
+    """Every module a source file imports, as written (relative ones with dots)."""
+    tree = ast.parse(path.read_text())
+    out = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            out += [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            out.append("." * node.level + (node.module or ""))
+    return out
+
+
+@pytest.mark.parametrize("path", sorted((PACKAGE / "scene").glob("*.py")), ids=lambda p: p.name)
+def test_the_description_layer_imports_no_kernel(path):
+    for name in _imports(path):
+        assert not name.startswith(("..path", "..kernel", "..classic", "..distributed",
+                                    "numba", "rtweekend")), f"{path.name} imports {name}"
+
+
+def test_nothing_but_the_top_imports_the_api():
+    for path in PACKAGE.rglob("*.py"):
+        if path.parent == PACKAGE and path.name in ("__init__.py", "cli.py"):
+            continue
+        for name in _imports(path):
+            assert not name.endswith("api") or name == "numba.extending", \
+                f"{path.relative_to(PACKAGE)} imports {name}"
+
+
+def test_distributed_imports_the_renderer_never_the_reverse():
+    for path in (PACKAGE / "path").rglob("*.py"):
+        assert not any("distributed" in n for n in _imports(path)), path.name
+    assert any(n.endswith("path.renderer") for n in
+               _imports(PACKAGE / "distributed" / "worker.py"))
+
+
+def test_every_primitive_kind_has_its_module_and_every_operation():
+    assert set(shapes.MODULES) == set(layout.PRIMITIVE_KINDS)
+    for module in shapes.MODULES.values():
+        for op in ("distance", "outward_normal", "enters", "sample_toward", "pdf_toward",
+                   "bounds", "pack"):
+            assert callable(getattr(module, op, None)), f"{module.__name__} lacks {op}"
+        assert module.FLOATS <= layout.OBJ_FLOATS
+    for op in ("distance", "outward_normal", "enters", "sample_toward", "pdf_toward"):
+        body = inspect.getsource(getattr(shapes, op).py_func)
+        for module in shapes.MODULES.values():
+            assert f"{module.__name__.rsplit('.', 1)[1]}.{op}(" in body, \
+                f"shapes.{op} has no branch for {module.__name__}"
+
+
+def test_every_path_material_has_a_tag():
+    path_materials = set(MATERIALS) - set(CLASSIC_MATERIALS)
+    assert set(layout.MATERIAL_TAGS) == path_materials
+
+
+def test_pyproject_lists_every_subpackage():
+    config = tomllib.loads((REPO / "pyproject.toml").read_text())
+    listed = set(config["tool"]["setuptools"]["packages"])
+    found = {".".join(p.parent.relative_to(REPO).parts)
+             for p in PACKAGE.rglob("__init__.py")}
+    assert found <= listed, f"not in pyproject.toml: {sorted(found - listed)}"
