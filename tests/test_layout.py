@@ -3,16 +3,15 @@ and the install finds every subpackage."""
 import ast
 import inspect
 import tomllib
-from pathlib import Path
 
 import pytest
+from conftest import REPO
 
-import rtweekend
 from rtweekend.path import layout, shapes
 from rtweekend.scene.materials import CLASSIC_MATERIALS, MATERIALS
 
-PACKAGE = Path(rtweekend.__file__).resolve().parent
-REPO = PACKAGE.parent
+# The sources in this checkout (the tests may run against an installed copy).
+PACKAGE = REPO / "rtweekend"
 
 
 def _imports(path):
