@@ -120,7 +120,7 @@ def like(x, value):
     return type(x)(value)
 
 
-@overload(like)
+@overload(like, inline="always")
 def _like(x, value):
     if isinstance(x, types.Float):
         cast = as_dtype(x).type
