@@ -23,3 +23,10 @@ def cornell_reference():
     """Mitsuba 3's converged cornell_box at 300x300: (radiance, stderr)."""
     with np.load(DATA / "reference" / "cornell_box_300.npz") as f:
         return f["radiance"], f["stderr"]
+
+
+@pytest.fixture(scope="session")
+def cornell_glass_reference():
+    """Mitsuba 3's converged cornell_glass at 150x150 (the books' Schlick glass)."""
+    with np.load(DATA / "reference" / "cornell_glass_150.npz") as f:
+        return f["radiance"], f["stderr"]

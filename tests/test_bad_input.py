@@ -132,7 +132,6 @@ BAD_SCENES = [
                                                         "did you mean 'white'"]),
     (_edit('lights = ["lamp"]', 'lights = ["lmap"]'), ["lights[0]", "no object named 'lmap'",
                                                        "did you mean 'lamp'"]),
-    (_edit('lights = ["lamp"]', 'lights = ["crate"]'), ["lights[0]", "'crate' is a box"]),
     (_edit('name = "lamp"', 'name = "ball"'), ["objects[1]", "'ball' is already used"]),
     (_edit('max_depth = 5', 'max_depth = 5\nbackground = "skyy"'),
      ["render", "background", '"sky"']),

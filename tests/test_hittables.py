@@ -173,7 +173,7 @@ def test_leaving_a_surface_never_hits_it_again(bvh):
     # Entering the sphere at its bottom: the far side at the chord length.
     p = (0.0, 4.0, 0.0)
     d = np.array([0.3, 1.0, 0.0]) / np.linalg.norm([0.3, 1.0, 0.0])
-    assert shapes.enters(a, 1, p, tuple(d))
+    assert shapes.enters(a, 1, shapes.outward_normal(a, 1, p), tuple(d))
     h = hit(a, p, d, from_obj=1, from_inside=True)
     chord = 2 * 1.0 * d[1]                    # 2 r cos(angle to the normal)
     assert h["k"] == 1 and h["t"] == pytest.approx(chord, rel=1e-12)
@@ -212,3 +212,73 @@ def test_bvh_finds_the_same_hits_as_testing_every_object():
             hits += 1
             assert a["k"] == b["k"] and a["t"] == b["t"]
     assert hits > 1000          # enough of the rays hit something
+
+
+def test_shapes_become_the_primitive_kinds_they_are():
+    from rtweekend.path.layout import BOX, RECT, SPHERE, XY_RECT, XZ_RECT, YZ_RECT
+    a = arrays(rt.sphere((0, 0, 0), 1, MAT), rt.xy_rect(0, 1, 0, 1, 0, MAT),
+               rt.xz_rect(0, 1, 0, 1, 0, MAT).translate((1, 2, 3)),
+               rt.yz_rect(0, 1, 0, 1, 0, MAT).rotate_y(360),
+               rt.yz_rect(0, 1, 0, 1, 0, MAT).rotate_y(30), rt.box((0, 0, 0), (1, 1, 1), MAT))
+    assert a.obj_i[:, 0].tolist() == [SPHERE, XY_RECT, XZ_RECT, YZ_RECT, RECT, BOX]
+
+
+@pytest.mark.parametrize("flip", [False, True])
+@pytest.mark.parametrize("kind", ["xy_rect", "xz_rect", "yz_rect"])
+def test_axis_rect_and_general_rect_agree(kind, flip, bvh):
+    # The same rect tested on its axis and as a general rect (rect.py's row).
+    from rtweekend.path.layout import RECT
+    from rtweekend.path.shapes import rect
+    shape = getattr(rt, kind)(-1, 2, -0.5, 1.5, 0.25, MAT).translate((0.1, -0.2, 0.3))
+    if flip:
+        shape = shape.flip_face()
+    axis = arrays(shape, bvh=bvh)
+    q, u, v = rect.axis_frame(kind, shape.geometry)
+    row = np.zeros_like(axis.obj_f[0])
+    rect.pack(np.add(q, shape.offset), *((v, u) if flip else (u, v)), row)
+    general = axis._replace(obj_i=np.array([[RECT, 0]]), obj_f=row[None, :])
+    rng = np.random.default_rng(7)
+    lo, hi = shapes.bounds(axis.obj_i[0, 0], axis.obj_f[0])
+    hits = 0
+    for _ in range(400):
+        # Rays aimed at the rect's bounds, grown by 20%: most hit, some miss.
+        o = rng.uniform(-3, 3, size=3)
+        target = rng.uniform(lo - 0.2 * (hi - lo), hi + 0.2 * (hi - lo))
+        x, y = hit(axis, o, target - o), hit(general, o, target - o)
+        assert (x is None) == (y is None)
+        if x is not None:
+            hits += 1
+            assert x["t"] == pytest.approx(y["t"], rel=1e-9)
+            assert np.allclose(x["n_out"], y["n_out"], atol=1e-12)
+            assert x["front"] == y["front"]
+    assert hits > 50
+
+
+def test_a_box_is_met_again_only_from_inside_at_its_exit(bvh):
+    a = arrays(rt.box((0, 0, 0), (2, 2, 2), MAT).rotate_y(30).translate((5, 0, 0)), bvh=bvh)
+    o = (0.0, 1.0, 0.3)
+    d = np.array([1.0, 0.1, 0.05])
+    entry = hit(a, o, d)
+    assert entry is not None and entry["front"]
+    p, n = tuple(entry["p"]), entry["n_out"]
+    u = tuple(d / np.linalg.norm(d))
+    # Refracted inward (here: straight on): the next hit is the exit, from inside.
+    assert shapes.enters(a, 0, tuple(n), u)
+    out = hit(a, p, u, from_obj=0, from_inside=True)
+    assert out is not None and not out["front"] and out["t"] > 0.1
+    # The exit point lies on the box: its distance to the entry is a chord.
+    assert np.linalg.norm(out["p"] - entry["p"]) == pytest.approx(out["t"])
+    # Reflected outward: never met again.
+    r = tuple(u - 2 * np.dot(u, n) * n)
+    assert not shapes.enters(a, 0, tuple(n), r)
+    assert hit(a, p, r, from_obj=0, from_inside=False) is None
+
+
+def test_a_ray_inside_a_box_meets_its_far_side(bvh):
+    a = arrays(rt.box((-1, -1, -1), (1, 1, 1), MAT), bvh=bvh)
+    h = hit(a, (0.5, 0, 0), (1, 0, 0))
+    assert h["t"] == pytest.approx(0.5) and not h["front"]
+    assert np.allclose(h["n_out"], (1, 0, 0))
+    flipped = arrays(rt.box((-1, -1, -1), (1, 1, 1), MAT).flip_face(), bvh=bvh)
+    h = hit(flipped, (0.5, 0, 0), (1, 0, 0))
+    assert np.allclose(h["n_out"], (-1, 0, 0)) and h["front"]

@@ -73,6 +73,12 @@ CASES = {
                                  rt.sphere((0, 0, 2), 0.8, MAT)], 1.0),
     "mixture 0.5": lambda: _case([rt.xz_rect(-1, 1, -1, 1, 1, MAT),
                                   rt.sphere((0, 0, 2), 0.8, MAT)], 0.5),
+    "yz rect light": lambda: _case([rt.yz_rect(-1, 1, -0.5, 2, 1.5, MAT)], 1.0),
+    "xy rect light below": lambda: _case([rt.xy_rect(-1, 1, -0.5, 2, -0.7, MAT)], 1.0),
+    "box light": lambda: _case([rt.box((-1, -0.5, 1), (1, 0.5, 2), MAT).rotate_y(25)
+                                .translate((0.3, 0, 0))], 1.0),
+    "box light around the point": lambda: _case([rt.box((-1, -2, -0.5), (1.5, 1, 1), MAT)
+                                                 .rotate_y(-40)], 1.0),
 }
 
 

@@ -151,7 +151,9 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside):
     # only (each inlined copy costs compile time): no BVH is a single leaf node.
     no_bvh = bvh_node.shape[0] == 0
     n_nodes = 1 if no_bvh else bvh_node.shape[0]
-    inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
+    inv_d = d                   # only the box tests of a hierarchy need 1 / d
+    if not no_bvh:
+        inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
     i = 0
     while i < n_nodes:
         if no_bvh:

@@ -70,7 +70,8 @@ def render_row(y, film, scene, params, s0, s1):
                     lb += tb * e[2]
                     break
                 p = madd(o, d, t)
-                front_face, n = face_normal(d, shapes.outward_normal(scene, k, p))
+                n_out = shapes.outward_normal(scene, k, p)
+                front_face, n = face_normal(d, n_out)
                 m = scene.obj_i[k, OBJ_MAT]
                 emits, e = materials.emitted(scene, m, front_face)
                 if emits:
@@ -83,20 +84,21 @@ def render_row(y, film, scene, params, s0, s1):
                     break
                 if specular:
                     d = d_out
-                    tr *= att[0]
-                    tg *= att[1]
-                    tb *= att[2]
-                elif not use_lights:
-                    # Cosine sampling alone: scattering_pdf / pdf == 1.
+                elif use_lights:
+                    d, state = pdf.mixture_generate(scene, p, n, params.light_weight, state)
+                else:
                     d, state = pdf.cosine_generate(n, state)
+                from_inside = shapes.enters(scene, k, n_out, d)
+                if specular or not use_lights:
+                    # Followed with weight = attenuation (for cosine sampling
+                    # alone, scattering_pdf / pdf == 1).
                     tr *= att[0]
                     tg *= att[1]
                     tb *= att[2]
                 else:
                     # Importance-sampling the mixture pdf.
-                    d, state = pdf.mixture_generate(scene, p, n, params.light_weight, state)
                     density = pdf.mixture_value(scene, p, n, params.light_weight, d, k,
-                                                shapes.enters(scene, k, p, d))
+                                                from_inside)
                     scattering = pdf.cosine_value(n, d)
                     # A direction below the surface, or one no component can
                     # make, carries no light: stop instead of dividing by zero.
@@ -106,7 +108,6 @@ def render_row(y, film, scene, params, s0, s1):
                     tr *= att[0] * w
                     tg *= att[1] * w
                     tb *= att[2] * w
-                from_inside = shapes.enters(scene, k, p, d)
                 from_obj = k
                 o = p
             films.add_sample(film, y, x, s, lr, lg, lb, params.clamp)

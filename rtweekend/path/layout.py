@@ -23,8 +23,12 @@ import numpy as np
 
 # Primitive kinds (obj_i[:, OBJ_KIND]); shapes/__init__.py dispatches on them.
 SPHERE = 0
-RECT = 1
-PRIMITIVE_KINDS = (SPHERE, RECT)
+RECT = 1             # any rectangle: turned book rects, quads' rectangles
+XY_RECT = 2          # the book's rects, not turned: tested on their own axis
+XZ_RECT = 3
+YZ_RECT = 4
+BOX = 5              # a box turned by rotate_y and moved: one slab test
+PRIMITIVE_KINDS = (SPHERE, RECT, XY_RECT, XZ_RECT, YZ_RECT, BOX)
 
 # Material kinds (mat_i), by the description's names; materials.py dispatches on them.
 LAMBERTIAN = 0

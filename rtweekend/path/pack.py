@@ -1,50 +1,46 @@
 """Freezing a Scene into the arrays the path tracer's kernels read (layout.py).
 
-A box becomes six rects with outward normals (so a glass box refracts on every
-side); rects and spheres are placed in the world (rotate_y, then translate);
-each primitive's row is packed by its kind's module (shapes/<kind>.py).
+Each shape becomes one primitive, placed in the world (rotate_y, then
+translate) and packed by its kind's module (shapes/<kind>.py).
 """
 import numpy as np
 
 from ..errors import SceneError
 from ..scene.fields import SKY
 from . import bvh as hierarchy
-from .layout import (BG_COLOR, BG_SKY, MAT_FLOATS, MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS,
-                     PRIMITIVE_KINDS, RECT, SPHERE, SceneArrays)
-from .shapes import rect, sphere
+from .layout import (BG_COLOR, BG_SKY, BOX, MAT_FLOATS, MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS,
+                     PRIMITIVE_KINDS, RECT, SPHERE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays)
+from .shapes import axis_rect, box, rect, sphere
 
 
-def _box_faces(lo, hi):
-    """Six (rect kind, geometry, flipped): the +axis faces as the book's rects,
-    the -axis faces flipped, so every normal points out of the box."""
-    (x0, y0, z0), (x1, y1, z1) = lo, hi
-    return [("xy_rect", (x0, x1, y0, y1, z1), False), ("xy_rect", (x0, x1, y0, y1, z0), True),
-            ("xz_rect", (x0, x1, z0, z1, y1), False), ("xz_rect", (x0, x1, z0, z1, y0), True),
-            ("yz_rect", (y0, y1, z0, z1, x1), False), ("yz_rect", (y0, y1, z0, z1, x0), True)]
+AXIS_RECTS = {"xy_rect": XY_RECT, "xz_rect": XZ_RECT, "yz_rect": YZ_RECT}
 
 
 def primitives(shape):
-    """[(kind tag, obj_f row)] of one shape, placed in the world."""
-    rot, offset = shape.placement()
+    """[(kind tag, obj_f row)] of one shape, placed in the world.
+
+    A book rect that is not turned stays on its axis (axis_rect.py); turned, it
+    becomes a general rect (rect.py).  A box is one primitive in its own frame
+    (box.py), whatever its turn.
+    """
     row = np.zeros(OBJ_FLOATS)
+    if shape.kind == "box":
+        box.pack(*shape.geometry, shape.angle, shape.offset, shape.flipped, row)
+        return [(BOX, row)]
+    rot, offset = shape.placement()
     if shape.kind == "sphere":
         center, radius = shape.geometry
         sphere.pack(rot @ np.asarray(center) + offset, -radius if shape.flipped else radius,
                     row)
         return [(SPHERE, row)]
-    if shape.kind == "box":
-        faces = _box_faces(*shape.geometry)
-    else:
-        faces = [(shape.kind, shape.geometry, False)]
-    out = []
-    for kind, geometry, flip in faces:
-        q, u, v = rect.axis_frame(kind, geometry)
-        if flip != shape.flipped:
-            u, v = v, u     # swapping the edges reverses u x v, the front side
-        row = np.zeros(OBJ_FLOATS)
-        rect.pack(rot @ np.asarray(q) + offset, rot @ np.asarray(u), rot @ np.asarray(v), row)
-        out.append((RECT, row))
-    return out
+    if shape.angle % 360.0 == 0.0:
+        axis_rect.pack(shape.kind, shape.geometry, offset, shape.flipped, row)
+        return [(AXIS_RECTS[shape.kind], row)]
+    q, u, v = rect.axis_frame(shape.kind, shape.geometry)
+    if shape.flipped:
+        u, v = v, u         # swapping the edges reverses u x v, the front side
+    rect.pack(rot @ np.asarray(q) + offset, rot @ np.asarray(u), rot @ np.asarray(v), row)
+    return [(RECT, row)]
 
 
 def pack_background(value):

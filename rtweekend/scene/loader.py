@@ -288,11 +288,7 @@ class _Loader:
             if entry not in named:
                 raise self.fail(f"lights[{j}]", f"no object named '{entry}'"
                                 + did_you_mean(entry, named))
-            shape = named[entry]
-            if shape.kind == "box":
-                raise self.fail(f"lights[{j}]", f"'{entry}' is a box; the light pdf "
-                                "samples rects and spheres only")
-            scene.add_light(shape)
+            scene.add_light(named[entry])
 
     def classic_light(self, spec, what):
         kind = spec.get("type")

@@ -50,9 +50,6 @@ class Scene:
 
     def add_light(self, light):
         """A shape for the path tracer's light pdf, or a ClassicLight."""
-        if isinstance(light, Shape) and light.kind == "box":
-            raise SceneError(f"lights: {light.label} is a box; "
-                             "the light pdf samples rects and spheres only")
         if not isinstance(light, (Shape, ClassicLight)):
             raise SceneError(f"lights: expected a shape or a classic light, "
                              f"got {type(light).__name__}")

@@ -1,15 +1,17 @@
 """The primitive kinds, and the one place that dispatches on them.
 
-Each kind is a module (sphere.py, rect.py) that provides, for the row k of
-obj_f it packed:
+Each kind is a module (sphere.py, rect.py, axis_rect.py, box.py) that provides,
+for the row k of obj_f it packed:
 
   distance(obj_f, k, o, d, t_max, from_self, from_inside)  nearest hit in (0, t_max)
   outward_normal(obj_f, k, p)          unit normal on its front side
-  enters(obj_f, k, p, d)               does a ray leaving it at p go inside it?
+  enters(obj_f, k, n, d)               does a ray leaving it along d (its outward
+                                       normal there: n) go inside it?
   sample_toward(obj_f, k, p, state)    a direction from p towards it (as a light)
   pdf_toward(obj_f, k, p, d, from_self, from_inside)   that direction's density
   bounds(row), pack(..., row)          NumPy, for the BVH and pack.py
 
+(axis_rect.py serves three kinds, xy, xz and yz: its functions take the axes.)
 Here each operation is an explicit branch per kind (adding a kind: its module,
 its tag in layout.py, one line per operation below).  pack.py writes only the
 tags in PRIMITIVE_KINDS, so the last line of each chain is never reached; it
@@ -17,21 +19,27 @@ returns NaN, which would make a bad sample that is dropped and counted, not an
 object that silently looks like another kind.
 
 Self-intersection is avoided without an epsilon: a ray remembers the object it
-leaves (from_obj) and whether it went into that object's ball (from_inside,
-spheres only); each kind knows where it can be met again.
+leaves (from_obj) and whether it went inside that object (from_inside); each
+kind knows where it can be met again.
 """
 import math
 
 from ...kernel.jit import jit_inline, like
-from ..layout import OBJ_KIND, RECT, SPHERE
-from . import rect, sphere
+from ..layout import BOX, OBJ_KIND, RECT, SPHERE, XY_RECT, XZ_RECT, YZ_RECT
+from . import axis_rect, box, rect, sphere
 
 NAN = math.nan
-MODULES = {SPHERE: sphere, RECT: rect}
+MODULES = {SPHERE: sphere, RECT: rect, XY_RECT: axis_rect, XZ_RECT: axis_rect,
+           YZ_RECT: axis_rect, BOX: box}
+# The axes (a, b, n) of the three axis-aligned kinds: the plane's and the normal's.
+XY, XZ, YZ = axis_rect.XY, axis_rect.XZ, axis_rect.YZ
+AXES = {XY_RECT: XY, XZ_RECT: XZ, YZ_RECT: YZ}
 
 
 def bounds(kind, row):
     """(lo, hi) corners of the axis-aligned box around one primitive."""
+    if kind in AXES:
+        return axis_rect.bounds(AXES[kind], row)
     return MODULES[kind].bounds(row)
 
 
@@ -39,11 +47,20 @@ def bounds(kind, row):
 def distance(scene, k, o, d, t_max, from_obj, from_inside):
     """Distance to object k for a ray leaving object from_obj (NO_HIT: none)."""
     kind = scene.obj_i[k, OBJ_KIND]
+    f = scene.obj_f
     from_self = k == from_obj
+    if kind == XZ_RECT:
+        return axis_rect.distance(f, k, o, d, t_max, from_self, from_inside, *XZ)
+    if kind == YZ_RECT:
+        return axis_rect.distance(f, k, o, d, t_max, from_self, from_inside, *YZ)
+    if kind == XY_RECT:
+        return axis_rect.distance(f, k, o, d, t_max, from_self, from_inside, *XY)
     if kind == SPHERE:
-        return sphere.distance(scene.obj_f, k, o, d, t_max, from_self, from_inside)
+        return sphere.distance(f, k, o, d, t_max, from_self, from_inside)
+    if kind == BOX:
+        return box.distance(f, k, o, d, t_max, from_self, from_inside)
     if kind == RECT:
-        return rect.distance(scene.obj_f, k, o, d, t_max, from_self, from_inside)
+        return rect.distance(f, k, o, d, t_max, from_self, from_inside)
     return like(t_max, NAN)
 
 
@@ -51,22 +68,36 @@ def distance(scene, k, o, d, t_max, from_obj, from_inside):
 def outward_normal(scene, k, p):
     """Unit normal at p on object k, pointing to its front side."""
     kind = scene.obj_i[k, OBJ_KIND]
+    f = scene.obj_f
+    if kind == XZ_RECT:
+        return axis_rect.outward_normal(f, k, p, XZ[2])
+    if kind == YZ_RECT:
+        return axis_rect.outward_normal(f, k, p, YZ[2])
+    if kind == XY_RECT:
+        return axis_rect.outward_normal(f, k, p, XY[2])
     if kind == SPHERE:
-        return sphere.outward_normal(scene.obj_f, k, p)
+        return sphere.outward_normal(f, k, p)
+    if kind == BOX:
+        return box.outward_normal(f, k, p)
     if kind == RECT:
-        return rect.outward_normal(scene.obj_f, k, p)
+        return rect.outward_normal(f, k, p)
     return (NAN, NAN, NAN)
 
 
 @jit_inline
-def enters(scene, k, p, d):
-    """Does a ray leaving object k at p along d go inside it?  (from_inside of
-    the next segment: where the object may be met again)"""
+def enters(scene, k, n, d):
+    """Does a ray leaving object k along d, where its outward normal is n, go
+    inside it?  (from_inside of the next segment: where k may be met again)"""
     kind = scene.obj_i[k, OBJ_KIND]
+    f = scene.obj_f
+    if kind == XZ_RECT or kind == YZ_RECT or kind == XY_RECT:
+        return axis_rect.enters(f, k, n, d)
     if kind == SPHERE:
-        return sphere.enters(scene.obj_f, k, p, d)
+        return sphere.enters(f, k, n, d)
+    if kind == BOX:
+        return box.enters(f, k, n, d)
     if kind == RECT:
-        return rect.enters(scene.obj_f, k, p, d)
+        return rect.enters(f, k, n, d)
     return False
 
 
@@ -74,10 +105,19 @@ def enters(scene, k, p, d):
 def sample_toward(scene, k, p, state):
     """A unit direction from p towards object k, drawn by its own light sampling."""
     kind = scene.obj_i[k, OBJ_KIND]
+    f = scene.obj_f
+    if kind == XZ_RECT:
+        return axis_rect.sample_toward(f, k, p, state, *XZ)
+    if kind == YZ_RECT:
+        return axis_rect.sample_toward(f, k, p, state, *YZ)
+    if kind == XY_RECT:
+        return axis_rect.sample_toward(f, k, p, state, *XY)
     if kind == SPHERE:
-        return sphere.sample_toward(scene.obj_f, k, p, state)
+        return sphere.sample_toward(f, k, p, state)
+    if kind == BOX:
+        return box.sample_toward(f, k, p, state)
     if kind == RECT:
-        return rect.sample_toward(scene.obj_f, k, p, state)
+        return rect.sample_toward(f, k, p, state)
     return (NAN, NAN, NAN), state
 
 
@@ -85,9 +125,18 @@ def sample_toward(scene, k, p, state):
 def pdf_toward(scene, k, p, d, from_obj, from_inside):
     """Density of d under sample_toward(k) at p; 0 where d misses object k."""
     kind = scene.obj_i[k, OBJ_KIND]
+    f = scene.obj_f
     from_self = k == from_obj
+    if kind == XZ_RECT:
+        return axis_rect.pdf_toward(f, k, p, d, from_self, from_inside, *XZ)
+    if kind == YZ_RECT:
+        return axis_rect.pdf_toward(f, k, p, d, from_self, from_inside, *YZ)
+    if kind == XY_RECT:
+        return axis_rect.pdf_toward(f, k, p, d, from_self, from_inside, *XY)
     if kind == SPHERE:
-        return sphere.pdf_toward(scene.obj_f, k, p, d, from_self, from_inside)
+        return sphere.pdf_toward(f, k, p, d, from_self, from_inside)
+    if kind == BOX:
+        return box.pdf_toward(f, k, p, d, from_self, from_inside)
     if kind == RECT:
-        return rect.pdf_toward(scene.obj_f, k, p, d, from_self, from_inside)
+        return rect.pdf_toward(f, k, p, d, from_self, from_inside)
     return NAN

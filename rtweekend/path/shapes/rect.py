@@ -101,7 +101,7 @@ def outward_normal(obj_f, k, p):
 
 
 @jit_leaf
-def enters(obj_f, k, p, d):
+def enters(obj_f, k, n, d):
     """A rect has no inside: a ray leaving it never goes into it."""
     return False
 

@@ -13,7 +13,7 @@ import math
 
 from ...kernel import rng
 from ...kernel.jit import jit, jit_leaf, like
-from ...kernel.vec3 import dot, local, onb, scale, sub
+from ...kernel.vec3 import dot, local, onb, scale
 
 INF = math.inf
 INV_4PI = 1.0 / (4.0 * math.pi)
@@ -70,10 +70,10 @@ def outward_normal(obj_f, k, p):
 
 
 @jit_leaf
-def enters(obj_f, k, p, d):
-    """Does a ray leaving the sphere at p along d go into its ball?"""
-    c = (obj_f[k, 0], obj_f[k, 1], obj_f[k, 2])
-    return dot(d, sub(p, c)) < 0.0
+def enters(obj_f, k, n, d):
+    """Does a ray leaving the sphere along d, where its outward normal is n, go
+    into its ball?  (n = (p - c) / r: the radius's sign says which way it faces)"""
+    return dot(d, n) * obj_f[k, RADIUS] < 0.0
 
 
 @jit

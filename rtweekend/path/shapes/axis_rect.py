@@ -1,0 +1,114 @@
+"""The books' axis-aligned rects (xy_rect, xz_rect, yz_rect) when they are not
+turned: tested on their own axis, a division and two interval checks.
+
+Each function takes the axes as constants from the dispatch: n, the axis of the
+normal (z for an xy_rect), and a, b, the two axes of the plane.  Row of obj_f:
+the rect's extents A0, A1 (along a) and B0, B1 (along b), its plane n = K, SIGN
+(+1: facing +n, as the book's rects do; -1: flip_face) and AREA.
+
+A plane is never met again by a ray leaving it, so `distance` needs no epsilon.
+As a light it is sampled uniformly in area.
+"""
+import math
+
+import numpy as np
+
+from ...kernel import rng
+from ...kernel.jit import jit_leaf, like
+
+INF = math.inf
+A0 = 0
+A1 = 1
+B0 = 2
+B1 = 3
+K = 4
+SIGN = 5
+AREA = 6
+FLOATS = 7
+# (a, b, n) of each kind: the plane's two axes and the normal's.
+XY = (0, 1, 2)
+XZ = (0, 2, 1)
+YZ = (1, 2, 0)
+AXES = {"xy_rect": XY, "xz_rect": XZ, "yz_rect": YZ}
+
+
+def pack(kind, geometry, offset, flipped, row):
+    """Fill a row with a book rect (kind, its five numbers) moved by offset."""
+    a, b, n = AXES[kind]
+    lo_a, hi_a, lo_b, hi_b, k = geometry
+    row[A0], row[A1] = lo_a + offset[a], hi_a + offset[a]
+    row[B0], row[B1] = lo_b + offset[b], hi_b + offset[b]
+    row[K] = k + offset[n]
+    row[SIGN] = -1.0 if flipped else 1.0
+    row[AREA] = (hi_a - lo_a) * (hi_b - lo_b)
+
+
+def bounds(axes, row):
+    """The rect's corners (lo, hi): axes = (a, b, n) of its kind."""
+    a, b, n = axes
+    lo, hi = [0.0] * 3, [0.0] * 3
+    lo[a], hi[a], lo[b], hi[b] = row[A0], row[A1], row[B0], row[B1]
+    lo[n] = hi[n] = row[K]
+    return np.array(lo), np.array(hi)
+
+
+@jit_leaf
+def plane_hit(obj_f, k, o, d, t_max, a, b, n):
+    """Distance along d to the rect, in (0, t_max), else inf.  (d[n] = 0: the
+    division gives inf or nan, which the interval test rejects.)"""
+    t = (obj_f[k, K] - o[n]) / d[n]
+    if not (0.0 < t < t_max):
+        return like(t_max, INF)
+    x = o[a] + t * d[a]
+    if x < obj_f[k, A0] or x > obj_f[k, A1]:
+        return like(t_max, INF)
+    y = o[b] + t * d[b]
+    if y < obj_f[k, B0] or y > obj_f[k, B1]:
+        return like(t_max, INF)
+    return t
+
+
+@jit_leaf
+def distance(obj_f, k, o, d, t_max, from_self, from_inside, a, b, n):
+    if from_self:
+        return like(t_max, INF)
+    return plane_hit(obj_f, k, o, d, t_max, a, b, n)
+
+
+@jit_leaf
+def outward_normal(obj_f, k, p, n):
+    s = obj_f[k, SIGN]
+    return (s if n == 0 else 0.0, s if n == 1 else 0.0, s if n == 2 else 0.0)
+
+
+@jit_leaf
+def enters(obj_f, k, n, d):
+    return False
+
+
+@jit_leaf
+def sample_toward(obj_f, k, p, state, a, b, n):
+    """A unit direction from p to a point uniform in the rect's area."""
+    u1, state = rng.uniform(state)
+    u2, state = rng.uniform(state)
+    x = obj_f[k, A0] + u1 * (obj_f[k, A1] - obj_f[k, A0]) - p[a]
+    y = obj_f[k, B0] + u2 * (obj_f[k, B1] - obj_f[k, B0]) - p[b]
+    z = obj_f[k, K] - p[n]
+    inv = 1.0 / math.sqrt(x * x + y * y + z * z)
+    x, y, z = x * inv, y * inv, z * inv
+    if n == 2:
+        return (x, y, z), state
+    if n == 1:
+        return (x, z, y), state
+    return (z, x, y), state
+
+
+@jit_leaf
+def pdf_toward(obj_f, k, p, d, from_self, from_inside, a, b, n):
+    """distance^2 / (|cos| area) where d meets the rect, else 0."""
+    if from_self:
+        return 0.0
+    t = plane_hit(obj_f, k, p, d, INF, a, b, n)
+    if t == INF:
+        return 0.0
+    return t * t / (abs(d[n]) * obj_f[k, AREA])

@@ -1,0 +1,213 @@
+"""The oriented box: an axis-aligned box in its own frame, turned by rotate_y and
+moved by translate, tested as one slab test in that frame.
+
+Row of obj_f: the box's own corners LO (0:3) and HI (3:6); COS (6) and SIN (7) of
+its rotate_y angle; OFFSET (8:11), its translate; FLIP (11): 1 when flip_face
+turned its normals inward, else 0; AREA (12), its surface area; and FACE_AREA
+(13:16), the area of one face normal to x, y and z.  World to box frame:
+q = p - offset; x = cos qx - sin qz, y = qy, z = sin qx + cos qz (the books'
+rotate_y undone).
+
+A ray leaving the box outward never meets it again (it is convex); one that went
+inside meets it next where it leaves it, at the slab test's far distance: so no
+epsilon is needed.  The normal at a hit is the one of the face p lies on.  As a
+light it is sampled uniformly over its surface.
+"""
+import math
+
+import numpy as np
+
+from ...kernel import rng
+from ...kernel.jit import jit_inline, jit_leaf, like
+
+INF = math.inf
+LO = 0
+HI = 3
+COS = 6
+SIN = 7
+OFFSET = 8
+FLIP = 11
+AREA = 12
+FACE_AREA = 13
+FLOATS = 16
+
+
+def pack(lo, hi, degrees, offset, flipped, row):
+    """Fill a row with the box lo..hi (its own frame), turned and moved."""
+    lo, hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
+    size = hi - lo
+    faces = np.array([size[1] * size[2], size[0] * size[2], size[0] * size[1]])
+    row[LO:LO + 3], row[HI:HI + 3] = lo, hi
+    row[COS], row[SIN] = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    row[OFFSET:OFFSET + 3] = offset
+    row[FLIP] = 1.0 if flipped else 0.0
+    row[AREA] = 2.0 * faces.sum()
+    row[FACE_AREA:FACE_AREA + 3] = faces
+
+
+def to_world(row, p):
+    """A point of the box's frame in the world (NumPy; for bounds and tests)."""
+    c, s = row[COS], row[SIN]
+    return np.array([c * p[0] + s * p[2], p[1], -s * p[0] + c * p[2]]) + row[OFFSET:OFFSET + 3]
+
+
+def bounds(row):
+    lo, hi = row[LO:LO + 3], row[HI:HI + 3]
+    corners = np.array([to_world(row, (x, y, z)) for x in (lo[0], hi[0])
+                        for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+    return corners.min(axis=0), corners.max(axis=0)
+
+
+@jit_leaf
+def _local_point(obj_f, k, p):
+    qx = p[0] - obj_f[k, OFFSET]
+    qz = p[2] - obj_f[k, OFFSET + 2]
+    c, s = obj_f[k, COS], obj_f[k, SIN]
+    return (c * qx - s * qz, p[1] - obj_f[k, OFFSET + 1], s * qx + c * qz)
+
+
+@jit_leaf
+def _local_direction(obj_f, k, d):
+    c, s = obj_f[k, COS], obj_f[k, SIN]
+    return (c * d[0] - s * d[2], d[1], s * d[0] + c * d[2])
+
+
+@jit_leaf
+def _slab(lo, hi, o, d):
+    """(near, far) distances along d between the planes lo and hi of one axis:
+    with d = 0 the division gives +-inf (error_model numpy), so a line between
+    the planes is inside for all t and one outside for none (nan: the line lies
+    on a plane, which min/max below leave to the other axes)."""
+    inv = like(d, 1.0) / d
+    t0 = (lo - o) * inv
+    t1 = (hi - o) * inv
+    return min(t0, t1), max(t0, t1)
+
+
+@jit_leaf
+def slabs(obj_f, k, o, d):
+    """(near, far) distances along d where the line o + t d is inside the box
+    (near > far: it misses).  In the precision of o and d."""
+    lo = _local_point(obj_f, k, o)
+    ld = _local_direction(obj_f, k, d)
+    n0, f0 = _slab(obj_f[k, LO], obj_f[k, HI], lo[0], ld[0])
+    n1, f1 = _slab(obj_f[k, LO + 1], obj_f[k, HI + 1], lo[1], ld[1])
+    n2, f2 = _slab(obj_f[k, LO + 2], obj_f[k, HI + 2], lo[2], ld[2])
+    return max(n0, n1, n2), min(f0, f1, f2)
+
+
+@jit_leaf
+def slab_axes(obj_f, k, o, d):
+    """slabs, with the axis of the face where the line enters and where it
+    leaves (for the light pdf's cosines)."""
+    lo = _local_point(obj_f, k, o)
+    ld = _local_direction(obj_f, k, d)
+    n0, f0 = _slab(obj_f[k, LO], obj_f[k, HI], lo[0], ld[0])
+    n1, f1 = _slab(obj_f[k, LO + 1], obj_f[k, HI + 1], lo[1], ld[1])
+    n2, f2 = _slab(obj_f[k, LO + 2], obj_f[k, HI + 2], lo[2], ld[2])
+    near, near_axis = (n0, 0) if n0 >= n1 and n0 >= n2 else (n1, 1) if n1 >= n2 else (n2, 2)
+    far, far_axis = (f0, 0) if f0 <= f1 and f0 <= f2 else (f1, 1) if f1 <= f2 else (f2, 2)
+    return near, far, near_axis, far_axis
+
+
+@jit_inline
+def distance(obj_f, k, o, d, t_max, from_self, from_inside):
+    """Distance to the box along d: where the ray enters it, or leaves it if it
+    starts inside; a ray leaving it outward never meets it again."""
+    if from_self and not from_inside:
+        return like(t_max, INF)
+    near, far = slabs(obj_f, k, o, d)
+    if near > far:
+        return like(t_max, INF)
+    if not from_self and 0.0 < near:
+        return near if near < t_max else like(t_max, INF)
+    if 0.0 < far < t_max:
+        return far
+    return like(t_max, INF)
+
+
+@jit_leaf
+def _face_normal(obj_f, k, p):
+    """The box frame's unit normal (outward, before flip_face) of the face p is on."""
+    lp = _local_point(obj_f, k, p)
+    best = INF
+    axis, sign = 0, 1.0
+    for a in range(3):
+        lo = abs(lp[a] - obj_f[k, LO + a])
+        hi = abs(lp[a] - obj_f[k, HI + a])
+        if lo < best:
+            best, axis, sign = lo, a, -1.0
+        if hi < best:
+            best, axis, sign = hi, a, 1.0
+    return (sign if axis == 0 else 0.0, sign if axis == 1 else 0.0,
+            sign if axis == 2 else 0.0)
+
+
+@jit_leaf
+def _world_direction(obj_f, k, v):
+    c, s = obj_f[k, COS], obj_f[k, SIN]
+    return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])
+
+
+@jit_leaf
+def outward_normal(obj_f, k, p):
+    n = _world_direction(obj_f, k, _face_normal(obj_f, k, p))
+    if obj_f[k, FLIP] != 0.0:
+        return (-n[0], -n[1], -n[2])
+    return n
+
+
+@jit_leaf
+def enters(obj_f, k, n, d):
+    """Does a ray leaving the box along d, where its outward normal is n, go
+    inside it?  (flip_face turned n inward)"""
+    inward = d[0] * n[0] + d[1] * n[1] + d[2] * n[2] < 0.0
+    return inward != (obj_f[k, FLIP] != 0.0)
+
+
+@jit_leaf
+def sample_toward(obj_f, k, p, state):
+    """A unit direction from p to a point uniform over the box's surface."""
+    u, state = rng.uniform(state)
+    u1, state = rng.uniform(state)
+    u2, state = rng.uniform(state)
+    lo, hi = (obj_f[k, LO], obj_f[k, LO + 1], obj_f[k, LO + 2]), \
+        (obj_f[k, HI], obj_f[k, HI + 1], obj_f[k, HI + 2])
+    # The face: by area (the two faces normal to an axis have the same), then
+    # the side by the second half of u2.
+    high = u2 >= 0.5
+    v = 2.0 * u2 - 1.0 if high else 2.0 * u2
+    pick = u * 0.5 * obj_f[k, AREA]
+    x = lo[0] + u1 * (hi[0] - lo[0])
+    y = lo[1] + v * (hi[1] - lo[1])
+    if pick < obj_f[k, FACE_AREA]:                               # normal to x
+        q = (hi[0] if high else lo[0], lo[1] + u1 * (hi[1] - lo[1]),
+             lo[2] + v * (hi[2] - lo[2]))
+    elif pick < obj_f[k, FACE_AREA] + obj_f[k, FACE_AREA + 1]:   # normal to y
+        q = (x, hi[1] if high else lo[1], lo[2] + v * (hi[2] - lo[2]))
+    else:                                                        # normal to z
+        q = (x, y, hi[2] if high else lo[2])
+    w = _world_direction(obj_f, k, q)
+    dx = w[0] + obj_f[k, OFFSET] - p[0]
+    dy = w[1] + obj_f[k, OFFSET + 1] - p[1]
+    dz = w[2] + obj_f[k, OFFSET + 2] - p[2]
+    inv = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
+    return (dx * inv, dy * inv, dz * inv), state
+
+
+@jit_leaf
+def pdf_toward(obj_f, k, p, d, from_self, from_inside):
+    """Solid-angle density at p of direction d under sample_toward: the line
+    from p along d meets the surface where it enters and where it leaves the
+    box, and either point could have been drawn (the far one is hidden, but
+    that is the integrator's business), so their densities add up."""
+    if from_self and not from_inside:
+        return 0.0                  # leaving it outward: it is never met again
+    near, far, near_axis, far_axis = slab_axes(obj_f, k, p, d)
+    if near > far or far <= 0.0:
+        return 0.0
+    ld = _local_direction(obj_f, k, d)
+    total = far * far / abs(ld[far_axis])
+    if near > 0.0 and not from_self:
+        total += near * near / abs(ld[near_axis])
+    return total / obj_f[k, AREA]
