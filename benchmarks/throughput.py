@@ -5,11 +5,15 @@
 For every bundled scene at its own size: samples/s and rays/s (path segments/s)
 with 1 thread and with all threads (median of 3 runs after a warm-up pass), the
 scaling ratio, the mean path length and the peak memory (RSS) of a process that
-renders only that scene.  Then cold compile (fresh process, empty Numba cache;
-median of 3) and cached start (fresh process, cache present: import to a first
-tiny image), and two scaling curves (median of 3 per point): time against pixels x
-spp (cornell_box) and against the number of spheres (10 .. 10,000 random spheres,
-with and without the BVH).
+renders only that scene.  cornell_glass is measured three times, each time beside
+the yardstick (../shared/yardsticks/numba_probe.py, the books' estimator in a small
+scalar tracer of that one scene) at the same size, spp and threads, with the books'
+mixture sampling: its row is the median, and `vs yardstick` the median of the
+three ratios (the other scenes have no yardstick).  Then cold compile (fresh
+process, empty Numba cache; median of 3) and cached start (fresh process, cache
+present: import to a first tiny image), and two scaling curves (median of 3 per
+point): time against pixels x spp (cornell_box) and against the number of spheres
+(10 .. 10,000 random spheres, with and without the BVH).
 
 Writes results/throughput.json and results/throughput.png; prints a table.
 --quick runs a tiny version (seconds) to check that the script works.
@@ -31,6 +35,7 @@ import numpy as np
 import rtweekend as rt
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+import yardstick  # noqa: E402
 from common import machine, save_json  # noqa: E402
 from common import parser as bench_parser  # noqa: E402
 
@@ -40,6 +45,7 @@ FULL = dict(scenes={"cornell_glass": 4, "cornell_box": 4, "metals": 16, "weekend
             runs=3, pixels_spp=[(150, 150, s) for s in (4, 8, 16, 32, 64)],
             spheres=[10, 30, 100, 300, 1000, 3000, 10000], sphere_image=(96, 54, 2),
             flat_limit=10000, weekend=((240, 135), 4))
+YARDSTICK_ROUNDS = 3     # cornell_glass and the yardstick, alternated
 QUICK = dict(scenes={"cornell_glass": 1, "cgfs": None}, runs=1, size=(48, 48),
              pixels_spp=[(24, 24, 1), (24, 24, 2)], spheres=[10, 100],
              sphere_image=(24, 16, 1), flat_limit=100, weekend=((24, 16), 1))
@@ -74,7 +80,7 @@ def one_scene(name, spp, runs, size=None):
                               samples_per_s=st.samples_per_s, threads=st.threads)
         out.update(width=st.width, height=st.height, spp=1, integrator="classic")
     else:
-        r = rt.Renderer(scene, seed=1, width=width, height=height)
+        r = rt.Renderer(scene, seed=1, width=width, height=height, sampling="mixture")
         r.compile()
         r.add_samples(1)                                        # warm-up
         for label, threads in (("1_thread", 1), ("all_threads", numba.config.NUMBA_NUM_THREADS)):
@@ -113,6 +119,32 @@ t2 = time.perf_counter()
 print(json.dumps(dict(import_s=t1 - t0, first_image_s=t2 - t1, total_s=t2 - t0,
                       compile_s=r.stats.compile_seconds)))
 """
+
+
+def beside_yardstick(child, spp, runs):
+    """cornell_glass (a child process each time) alternated with the yardstick at
+    the same size, spp and threads: the medians, and the median of the ratios."""
+    if not yardstick.available():
+        print(f"  yardstick not found at {yardstick.PATH}: cornell_glass measured alone",
+              flush=True)
+        return _run_child(child)
+    ours, theirs = [], []
+    for _ in range(YARDSTICK_ROUNDS):
+        d = _run_child(child)
+        ours.append(d)
+        theirs.append({"1_thread": yardstick.samples_per_s(d["width"], spp, runs, threads=1),
+                       "all_threads": yardstick.samples_per_s(d["width"], spp, runs)})
+    out = dict(ours[0], runs_beside_yardstick=ours, yardstick=theirs)
+    out["vs_yardstick"] = {}
+    for key in ("1_thread", "all_threads"):
+        rates = [o[key]["samples_per_s"] for o in ours]
+        out[key] = dict(ours[0][key], samples_per_s=float(np.median(rates)),
+                        rays_per_s=float(np.median([o[key]["rays_per_s"] for o in ours])))
+        out["yardstick_" + key] = float(np.median([t[key] for t in theirs]))
+        out["vs_yardstick"][key] = float(np.median([o / t[key] for o, t in
+                                                    zip(rates, theirs)]))
+    out["scaling"] = out["all_threads"]["samples_per_s"] / out["1_thread"]["samples_per_s"]
+    return out
 
 
 def first_image(scene, env=None):
@@ -243,14 +275,19 @@ def main(argv=None):
           f"{'scaling':>7s} {'path':>5s} {'RSS MB':>7s}")
     for name, spp in cfg["scenes"].items():
         extra = ["--size", *map(str, cfg["size"])] if "size" in cfg else []
-        d = _run_child(["--one", name, str(spp), str(cfg["runs"]), *extra])
+        child = ["--one", name, str(spp), str(cfg["runs"]), *extra]
+        if name == "cornell_glass" and not args.quick:
+            d = beside_yardstick(child, spp, cfg["runs"])
+        else:
+            d = _run_child(child)
         data["scenes"][name] = d
         unit = "rays" if d["integrator"] == "classic" else "samples"
         one, all_ = d["1_thread"][f"{unit}_per_s"], d["all_threads"][f"{unit}_per_s"]
+        ratio = d.get("vs_yardstick", {}).get("all_threads")
         print(f"{name:14s} {d['width']:>5d}x{d['height']:<4d} {one / 1e6:9.3f} M {unit[0]}/s "
               f"{all_ / 1e6:9.3f} M {unit[0]}/s {d['scaling']:7.2f} "
-              f"{d.get('mean_path_length', float('nan')):5.2f} {d['peak_rss_mb']:7.0f}",
-              flush=True)
+              f"{d.get('mean_path_length', float('nan')):5.2f} {d['peak_rss_mb']:7.0f}"
+              + (f"   {ratio:.2f}x the yardstick" if ratio else ""), flush=True)
     print("compile times (fresh processes) ...", flush=True)
     data["compile"] = compile_times(cold=not args.quick)
     if data["compile"]["cold"]:

@@ -13,7 +13,8 @@ with no stack, nothing allocated per ray:
 
 bvh_box[i]  = (min x, y, z, max x, y, z)
 bvh_node[i] = (first, count, miss): a leaf holds objects bvh_prims[first:first+count];
-              an inner node has count 0.
+              an inner node has count 0.  Without a hierarchy (no nodes), bvh_prims
+              lists every object once.
 The split is the binned surface-area heuristic (pbrt's BVHAggregate, Wald 2007).
 closest_hit walks it (or, for small scenes, tests every object).
 """
@@ -26,6 +27,7 @@ from . import shapes
 from .layout import NO_HIT, OBJ_KIND
 
 INF = math.inf
+NON_NEGATIVE = 0x7FFFFFFFFFFFFFFF
 LEAF_SIZE = 4         # at most this many objects per leaf
 BINS = 16             # centroid bins per axis for the SAH
 TRAVERSAL_COST = 1.0  # cost of a box test relative to an object test
@@ -111,9 +113,11 @@ def build_bvh(obj_i, obj_f):
             np.array(prims, dtype=np.int64))
 
 
-def empty_bvh():
-    """No hierarchy: closest_hit tests every object (small scenes)."""
-    return np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), np.zeros(0, dtype=np.int64)
+def empty_bvh(n_objects):
+    """No hierarchy: closest_hit tests every object (small scenes).  bvh_prims
+    lists them all, so that both walks read object indices the same way."""
+    return (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64),
+            np.arange(n_objects, dtype=np.int64))
 
 
 @jit
@@ -168,7 +172,9 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside):
             i = bvh_node[i, 2]
             continue
         for j in range(first, first + count):
-            k = j if no_bvh else bvh_prims[j]
+            # An object index is >= 0: saying so spares every array access the
+            # test for a negative index (Python's a[-1]).
+            k = bvh_prims[j] & NON_NEGATIVE
             t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside)
             if t < t_max:
                 t_max = t

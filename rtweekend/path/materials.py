@@ -26,7 +26,9 @@ def schlick(cosine, ref_idx):
     """Schlick's approximation of Fresnel reflectance."""
     r0 = (1.0 - ref_idx) / (1.0 + ref_idx)
     r0 = r0 * r0
-    return r0 + (1.0 - r0) * (1.0 - cosine) ** 5
+    x = 1.0 - cosine
+    x2 = x * x
+    return r0 + (1.0 - r0) * (x2 * x2 * x)      # (1 - cos)^5 without a call to pow
 
 
 @jit

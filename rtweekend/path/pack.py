@@ -78,6 +78,6 @@ def pack_scene(scene, bvh=None):
     obj_f = np.array(obj_f, dtype=np.float64).reshape(-1, OBJ_FLOATS)
     if bvh is None:
         bvh = len(obj_i) >= hierarchy.BVH_MIN_OBJECTS
-    tree = hierarchy.build_bvh(obj_i, obj_f) if bvh else hierarchy.empty_bvh()
+    tree = hierarchy.build_bvh(obj_i, obj_f) if bvh else hierarchy.empty_bvh(len(obj_i))
     return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights,
                        bg_kind, bg, *tree)
