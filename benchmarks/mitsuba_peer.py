@@ -1,0 +1,316 @@
+"""Mitsuba 3 as a peer renderer: translate an rtweekend Scene and render it.
+
+Mitsuba lives in its own venv (it is not a dependency of rtweekend):
+
+    python3 -m venv /work/mitsuba-venv
+    /work/mitsuba-venv/bin/pip install mitsuba numpy
+    /work/mitsuba-venv/bin/pip install -e /work/main   # or put /work/main on sys.path
+    apt-get install -y libllvm19                        # for the llvm_* variants
+    export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1
+
+    python benchmarks/mitsuba_peer.py cornell_box --size 300 --spp 256 --threads 2
+
+Conventions that make the two renderers agree:
+  * Depth: Mitsuba's path `max_depth` counts path segments, the camera ray
+    included (1 = emitters seen directly, 2 = direct lighting), and so does
+    rtweekend's max_depth: the same number is passed through.  Mitsuba adds
+    next-event estimation with MIS and Russian roulette (from depth 5): a
+    different estimator of the same integral, so only the noise differs.
+  * Camera: `perspective` with fov_axis 'y' spans exactly vfov over the film
+    height; a pixel's samples are uniform over [i, i+1) x [j, j+1) and the box
+    filter keeps each in its own pixel; row 0 is the top, as in rtweekend.
+  * Rects face +axis; Mitsuba's rectangle faces +z, so each is mapped by a
+    rotation (a cyclic permutation of the axes, det +1) and flip_face becomes
+    `flip_normals`.  The one-sided area emitter emits along that normal.
+  * Glass: the books' Schlick dielectric, as a Python BSDF (Mitsuba's own
+    `dielectric` uses the exact Fresnel equations).
+"""
+import json
+import math
+import os
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+try:                                   # Mitsuba is optional: see available()
+    os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1")
+    import drjit as dr
+    import mitsuba as mi
+except ImportError:
+    dr = mi = None
+
+VARIANTS = ("llvm_ad_rgb", "scalar_rgb")
+_variant = None
+
+
+def available():
+    """True when mitsuba imports and one of VARIANTS can be set."""
+    try:
+        _setup()
+        return True
+    except Exception:
+        return False
+
+
+def _setup(threads=None):
+    """Set the first variant that works (once) and register the Schlick BSDF."""
+    global _variant
+    if mi is None:
+        raise ImportError("mitsuba is not installed")
+    if threads is not None:
+        dr.set_thread_count(threads)
+    if _variant is None:
+        for v in VARIANTS:
+            try:
+                mi.set_variant(v)
+                break
+            except Exception:
+                continue
+        else:
+            raise RuntimeError(f"none of the Mitsuba variants {VARIANTS} works")
+        _variant = v
+        cls = _schlick_class()
+        mi.register_bsdf("schlick_dielectric", lambda props: cls(props))
+    return _variant
+
+
+# ---------------------------------------------------------------- the glass --
+def _schlick_class():
+    """Defined once mitsuba is imported (it subclasses mi.BSDF)."""
+
+    class SchlickDielectric(mi.BSDF):
+        """The books' dielectric: reflect with probability Schlick(cos, ratio)
+        or always under total internal reflection, else refract; weight 1.
+
+        wi is in the local frame (z = the geometric/shading normal, pointing
+        outside the sphere).  cos is against the incoming side, as in the books
+        even when leaving the glass; ratio = 1/ior entering, ior leaving."""
+
+        def __init__(self, props):
+            mi.BSDF.__init__(self, props)
+            self.ior = props.get("eta", 1.5)
+            refl = mi.BSDFFlags.DeltaReflection | mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
+            tran = mi.BSDFFlags.DeltaTransmission | mi.BSDFFlags.FrontSide | mi.BSDFFlags.BackSide
+            self.m_components = [refl, tran]
+            self.m_flags = refl | tran
+
+        def sample(self, ctx, si, sample1, sample2, active=True):
+            wi = si.wi
+            entering = wi.z > 0
+            ratio = dr.select(entering, 1.0 / self.ior, self.ior)
+            cos = dr.minimum(dr.abs(wi.z), 1.0)
+            sin = dr.safe_sqrt(1.0 - cos * cos)
+            r0 = dr.square((1.0 - ratio) / (1.0 + ratio))
+            schlick = r0 + (1.0 - r0) * dr.power(1.0 - cos, 5)
+            reflect = (ratio * sin > 1.0) | (schlick > sample1)
+            # Refraction (the books' refract() in the local frame): tangential
+            # part scaled by ratio, normal part through to the other side.
+            cos_t = dr.safe_sqrt(1.0 - dr.square(ratio * sin))
+            refr = mi.Vector3f(-ratio * wi.x, -ratio * wi.y, -dr.sign(wi.z) * cos_t)
+            refl = mi.Vector3f(-wi.x, -wi.y, wi.z)
+
+            bs = dr.zeros(mi.BSDFSample3f)
+            bs.wo = dr.select(reflect, refl, refr)
+            tir = ratio * sin > 1.0
+            bs.pdf = dr.select(tir, 1.0, dr.select(reflect, schlick, 1.0 - schlick))
+            bs.eta = dr.select(reflect, 1.0, 1.0 / ratio)
+            bs.sampled_component = dr.select(reflect, mi.UInt32(0), mi.UInt32(1))
+            bs.sampled_type = dr.select(reflect, mi.UInt32(+mi.BSDFFlags.DeltaReflection),
+                                        mi.UInt32(+mi.BSDFFlags.DeltaTransmission))
+            return bs, dr.select(active, mi.Color3f(1.0), mi.Color3f(0.0))
+
+        def eval(self, ctx, si, wo, active=True):
+            return mi.Color3f(0.0)     # delta lobes only
+
+        def pdf(self, ctx, si, wo, active=True):
+            return mi.Float(0.0)
+
+        def eval_pdf(self, ctx, si, wo, active=True):
+            return mi.Color3f(0.0), mi.Float(0.0)
+
+        def traverse(self, callback):
+            pass
+
+        def to_string(self):
+            return f"SchlickDielectric[ior={self.ior}]"
+
+    return SchlickDielectric
+
+
+# ---------------------------------------------------------- the translator --
+def _bsdf(m):
+    if m.kind == "lambertian":
+        return {"type": "twosided", "bsdf": {"type": "diffuse", "reflectance": _rgb(m.color)}}
+    if m.kind == "metal":
+        if m.param > 0:
+            raise NotImplementedError("fuzzy metal has no Mitsuba counterpart here")
+        # material 'none' = a perfect mirror (Fresnel 1); the colour scales it.
+        # twosided: the books' metal reflects on both sides of a surface.
+        return {"type": "twosided", "bsdf": {"type": "conductor", "material": "none",
+                                             "specular_reflectance": _rgb(m.color)}}
+    if m.kind == "dielectric":
+        return {"type": "schlick_dielectric", "eta": float(m.param)}
+    if m.kind == "diffuse_light":      # emits (see mitsuba_dict); absorbs whatever hits it
+        return {"type": "diffuse", "reflectance": _rgb((0, 0, 0))}
+    raise NotImplementedError(f"material {m.kind!r}")
+
+
+def _rgb(c):
+    return {"type": "rgb", "value": [float(x) for x in c]}
+
+
+# Columns: where Mitsuba's local x, y, z (z = the normal) go in the world.
+_RECT_AXES = {"xy_rect": ((1, 0, 0), (0, 1, 0), (0, 0, 1)),
+              "xz_rect": ((0, 0, 1), (1, 0, 0), (0, 1, 0)),     # u=z, v=x, n=+y
+              "yz_rect": ((0, 1, 0), (0, 0, 1), (1, 0, 0))}     # u=y, v=z, n=+x
+
+
+def _local_matrix(s):
+    """4x4 map from Mitsuba's canonical shape to rtweekend's, before rotate/translate."""
+    M = np.eye(4)
+    g = s.geometry
+    if s.kind == "box":
+        lo, hi = np.asarray(g[0], float), np.asarray(g[1], float)
+        M[:3, :3] = np.diag((hi - lo) / 2)     # [-1,1]^3 -> [lo, hi]
+        M[:3, 3] = (hi + lo) / 2
+        return M
+    a0, a1, b0, b1, k = (float(x) for x in g)
+    if s.kind == "xz_rect":                    # (x0,x1,z0,z1,k): local u spans z, v spans x
+        a0, a1, b0, b1 = b0, b1, a0, a1
+    ex, ey, ez = (np.asarray(c, float) for c in _RECT_AXES[s.kind])
+    M[:3, 0] = ex * (a1 - a0) / 2
+    M[:3, 1] = ey * (b1 - b0) / 2
+    M[:3, 2] = ez
+    M[:3, 3] = ex * (a0 + a1) / 2 + ey * (b0 + b1) / 2 + ez * k
+    return M
+
+
+def _placement(s):
+    """The books' rotate_y (x' = cos x + sin z, z' = -sin x + cos z), then translate."""
+    c, sn = math.cos(math.radians(s.angle)), math.sin(math.radians(s.angle))
+    M = np.eye(4)
+    M[:3, :3] = [[c, 0, sn], [0, 1, 0], [-sn, 0, c]]
+    M[:3, 3] = s.offset
+    return M
+
+
+def _shape(s):
+    if s.kind == "sphere":
+        center, radius = s.geometry
+        p = _placement(s) @ np.append(np.asarray(center, float), 1.0)
+        d = {"type": "sphere", "center": [float(x) for x in p[:3]], "radius": float(radius)}
+    elif s.kind in _RECT_AXES or s.kind == "box":
+        M = _placement(s) @ _local_matrix(s)
+        d = {"type": "rectangle" if s.kind != "box" else "cube",
+             "to_world": mi.ScalarTransform4f(M.tolist())}
+    else:
+        raise NotImplementedError(f"shape {s.kind!r}")
+    if s.flipped:
+        d["flip_normals"] = True
+    d["bsdf"] = _bsdf(s.material)
+    if s.material.kind == "diffuse_light":
+        # One-sided: Mitsuba's area emitter emits on the side its normal faces.
+        d["emitter"] = {"type": "area", "radiance": _rgb(s.material.color)}
+    return d
+
+
+def _sensor(cam, spp, seed):
+    to_world = mi.ScalarTransform4f().look_at(origin=list(cam.lookfrom),
+                                              target=list(cam.lookat), up=list(cam.vup))
+    d = {"type": "perspective", "fov_axis": "y", "fov": float(cam.vfov), "to_world": to_world,
+         "film": {"type": "hdrfilm", "width": int(cam.width), "height": int(cam.height),
+                  "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+         "sampler": {"type": "independent", "sample_count": int(spp), "seed": int(seed)}}
+    if cam.aperture > 0:                  # the books' lens: radius aperture/2, focus plane
+        d.update(type="thinlens", aperture_radius=cam.aperture / 2,
+                 focus_distance=float(cam.focus_dist))
+    return d
+
+
+def mitsuba_dict(scene, spp, seed=0):
+    """A Mitsuba scene dict (mi.load_dict) for an rtweekend Scene."""
+    _setup()
+    d = {"type": "scene",
+         "integrator": {"type": "path", "max_depth": int(scene.resolved_max_depth())},
+         "sensor": _sensor(scene.camera, spp, seed)}
+    bg = scene.resolved_background()
+    if isinstance(bg, str):
+        raise NotImplementedError(f"background {bg!r}")
+    if any(float(x) > 0 for x in bg):
+        d["background"] = {"type": "constant", "radiance": _rgb(bg)}
+    for i, s in enumerate(scene.objects):
+        d[f"shape_{i:03d}_{getattr(s, 'name', '') or s.kind}"] = _shape(s)
+    return d
+
+
+# ---------------------------------------------------------------- rendering --
+def render(scene, spp, seed=0, pass_spp=64, threads=None, info=None):
+    """(float32 H x W x 3 linear image, seconds) for spp samples per pixel.
+
+    Renders in passes of pass_spp (the memory of one wavefront stays small;
+    pass i of seed s uses Mitsuba seed s * 100003 + i) and averages them.  One
+    untimed warm-up pass comes first so that JIT compilation is excluded; `info`
+    (a dict) receives the warm-up time and the compile time estimated from it."""
+    _setup(threads)
+    pass_spp = max(1, min(pass_spp, spp))
+    passes = [pass_spp] * (spp // pass_spp) + ([spp % pass_spp] if spp % pass_spp else [])
+    mscene = mi.load_dict(mitsuba_dict(scene, pass_spp, seed))
+
+    def one(n, s):
+        img = mi.render(mscene, spp=n, seed=s)
+        return np.array(img, dtype=np.float64)[..., :3]   # evaluates the kernel
+
+    t0 = time.perf_counter()
+    one(pass_spp, (seed * 100_003 + 99_999) % 2**32)    # warm-up: compile + run
+    warm = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    acc = sum(n * one(n, (seed * 100_003 + i) % 2**32) for i, n in enumerate(passes))
+    seconds = time.perf_counter() - t0
+    if info is not None:
+        info.update(warmup_seconds=warm, passes=len(passes), variant=_variant,
+                    threads=dr.thread_count(),
+                    compile_seconds=max(0.0, warm - seconds * pass_spp / spp))
+    return (acc / spp).astype(np.float32), seconds
+
+
+def main(argv=None):
+    import argparse
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+    import rtweekend as rt
+    p = argparse.ArgumentParser(description="Render a bundled scene with Mitsuba 3.")
+    p.add_argument("scene", nargs="?", default="cornell_box")
+    p.add_argument("--size", type=int, help="width (height keeps the aspect)")
+    p.add_argument("--spp", type=int, default=64)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--threads", type=int, help="Dr.Jit worker threads")
+    p.add_argument("--save", type=Path, help="write the image as .npy")
+    a = p.parse_args(argv)
+    if not available():
+        print(json.dumps({"peer": "mitsuba", "available": False}))
+        return
+    scene = rt.load_scene(a.scene)
+    if a.size:
+        c = scene.camera
+        h = max(1, round(a.size * c.height / c.width))
+        scene = _resized(scene, a.size, h)
+    info = {}
+    img, sec = render(scene, a.spp, a.seed, threads=a.threads, info=info)
+    if a.save:
+        np.save(a.save, img)
+    h, w = img.shape[:2]
+    print(json.dumps({"peer": "mitsuba", "mitsuba": mi.__version__, "scene": a.scene,
+                      "width": w, "height": h, "spp": a.spp, "seconds": sec,
+                      "samples_per_s": w * h * a.spp / sec, "mean": float(img.mean()),
+                      **info}))
+
+
+def _resized(scene, w, h):
+    """The scene with another image size (Camera and Scene are dataclasses)."""
+    import dataclasses
+    return dataclasses.replace(scene, camera=dataclasses.replace(scene.camera, width=w, height=h))
+
+
+if __name__ == "__main__":
+    main()
