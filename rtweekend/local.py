@@ -10,12 +10,13 @@ thread waits awake to Ctrl-C (kernel/calls.py).
 """
 import time as _time
 
+import numba
+
 from .io.progress import Progress, StopOnInterrupt
 from .kernel.calls import Abandoned, call_awake
 from .path.kernel import render_pass
 
 PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
-FIRST_PASS_SAMPLES = 2**14   # the first pass's pixel samples: quick on any image
 GROWTH = 4              # a pass does at most this many times the work of the last
 #                         (a rate measured on a small pass may flatter the rest)
 
@@ -29,6 +30,7 @@ def render_locally(renderer, spp, time):
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt at once.
     """
     report = Progress(renderer.options.progress, spp, time)
+    threads = renderer.options.threads or numba.get_num_threads()
     interrupted = False
     compiled = False
     try:
@@ -43,7 +45,7 @@ def render_locally(renderer, spp, time):
             if not interrupted:
                 report.started()
                 passes, last = 0, 0
-                while work := next_pass(renderer, spp, time, last):
+                while work := next_pass(renderer, spp, time, last, threads):
                     n, rows = work
                     if rows == renderer.height:
                         call_awake(lambda: renderer.add_samples(n), stop)
@@ -67,14 +69,15 @@ def _compiles():
     return sum(render_pass.stats.cache_misses.values())
 
 
-def next_pass(r, spp, budget, last):
+def next_pass(r, spp, budget, last, threads=1):
     """(n, rows) of the next pass: n samples per pixel more in `rows` rows
     (r.height: the whole image), or None when finished.
 
     r: the Renderer (spp, seconds, height, and a pass over part of the rows in
     progress: band, rows_done); last: the row-samples of the previous pass.
     Work is counted in row-samples (one row, one sample per pixel).  The first
-    pass is FIRST_PASS_SAMPLES pixel samples; later ones aim at PASS_SECONDS
+    pass is one row per thread (a row of any scene is quick, a whole image of a
+    deep one is not); later ones aim at PASS_SECONDS
     at the rate measured so far, growing at most GROWTH times a pass.  A time
     budget stops before a pass that would clearly overrun it, and finishes a
     pass over part of the rows that it started (the image keeps one spp
@@ -86,7 +89,7 @@ def next_pass(r, spp, budget, last):
         return None
     done = r.spp * h + r.rows_done * r.band
     if done == 0:
-        return 1, min(h, max(1, FIRST_PASS_SAMPLES // r.width))
+        return 1, min(h, max(1, threads))
     per_unit = r.seconds / done
     units = max(1.0, PASS_SECONDS / per_unit) if per_unit > 0 else float(h)
     units = min(units, GROWTH * last)

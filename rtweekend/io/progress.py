@@ -39,7 +39,8 @@ class Progress:
     requested or None, samples per second).
     """
 
-    FORMAT = "{desc}: {percentage:3.0f}%|{bar}| {elapsed}<{remaining}, {postfix}"
+    # tqdm writes desc with ": " after it, and postfix with ", " before it.
+    FORMAT = "{desc}{percentage:3.0f}%|{bar}| {elapsed}<{remaining}{postfix}"
 
     def __init__(self, progress, spp, time=None):
         self.callback = progress if callable(progress) else None
@@ -69,8 +70,10 @@ class Progress:
                 done, spp = min(r.seconds, self.time), f"{r.spp} spp"
             else:
                 done, spp = r.spp + r.band * r.rows_done / r.height, f"{r.spp}/{self.spp} spp"
+            self.bar.set_postfix_str(f"{spp}, pass {passes}, {rate / 1e6:.2f} M samples/s",
+                                     refresh=False)
             self.bar.update(done - self.bar.n)
-            self.bar.set_postfix_str(f"{spp}, pass {passes}, {rate / 1e6:.2f} M samples/s")
+            self.bar.refresh()
 
     def close(self):
         if self.bar is not None:
