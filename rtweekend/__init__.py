@@ -18,9 +18,12 @@ from .errors import SceneError
 from .io.image import save_image
 from .path.renderer import Renderer
 from .result import RenderResult, RenderStats
+from .version import version as _version
 from .scene import (SKY, Camera, ClassicCamera, Scene, ambient, box, bundled_scenes,
                     dielectric, diffuse_light, directional, lambertian, load_scene, metal,
                     phong, point, sphere, xy_rect, xz_rect, yz_rect)
+
+__version__ = _version()
 
 __all__ = [
     "SceneError", "load_scene", "bundled_scenes", "save_image",

@@ -10,7 +10,9 @@ from .distributed import client as dask_driver
 from .distributed.cluster import check_render
 from .local import render_locally
 from .options import RenderOptions
+from .errors import SceneError
 from .path.renderer import Renderer
+from .scene import Scene
 
 
 def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
@@ -34,6 +36,9 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     client: a dask.distributed Client: render blocks of samples on its workers
     instead, bit-identical to rendering here (rtweekend.distributed).
     """
+    if not isinstance(scene, Scene):
+        raise SceneError(f"render: expected a Scene (rt.load_scene or rt.Scene), "
+                         f"got {type(scene).__name__}")
     integrator = scene.resolved_integrator()
     if client is not None:
         check_render(scene, threads)

@@ -7,10 +7,14 @@
 Bad input is reported in one line on stderr with exit status 2.
 """
 import argparse
+import os
 import sys
 from pathlib import Path
 
-from .errors import SceneError
+from . import checks
+from .errors import FieldError, SceneError
+from .io.formats import HDR, LDR
+from .version import version
 from .options import SAMPLINGS
 
 DEFAULT_SCENE = "cornell_glass"
@@ -24,64 +28,59 @@ class _Parser(argparse.ArgumentParser):
         self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see --help)\n")
 
 
-def _integer(lo, hi=None, hi_text=None):
-    """An argparse type: an integer in [lo, hi) (hi_text: how to write hi)."""
-    def parse(text):
+def _option(name, parse=int, **rule):
+    """An argparse type for a numeric render option: parsed here, its range
+    checked by checks.option, the one rule render() and Renderer use too."""
+    def convert(text):
         try:
-            value = int(text)
+            value = parse(text)
         except ValueError:
-            raise argparse.ArgumentTypeError(f"expected an integer, got '{text}'") from None
-        if value < lo:
-            raise argparse.ArgumentTypeError(f"must be >= {lo}, got {value}")
-        if hi is not None and value >= hi:
-            raise argparse.ArgumentTypeError(f"must be in [{lo}, {hi_text or hi}), got {value}")
-        return value
-    return parse
+            kind = "an integer" if parse is int else "a number"
+            raise argparse.ArgumentTypeError(f"expected {kind}, got '{text}'") from None
+        try:
+            # threads: the upper bound (Numba's thread count) is checked by
+            # render(), so that parsing does not import Numba.
+            return checks.option(name, value, threads_available=None, **rule)
+        except FieldError as e:
+            raise argparse.ArgumentTypeError(e.problem) from None
+    return convert
 
 
-_positive_int = _integer(1)
-_depth = _integer(0)
-_seed = _integer(0, 2**63, "2**63")
-
-
-def _positive_number(text):
-    """A positive number (seconds for --time, a radiance for --clamp)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got '{text}'") from None
-    if not value > 0:
-        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
-    return value
+def _positive_int(text):
+    """--workers: a count of processes."""
+    return _option("threads")(text)
 
 
 def build_parser():
     parser = _Parser(prog="rtweekend",
                      description="Path-trace the Ray Tracing in One Weekend scenes.")
+    parser.add_argument("--version", action="version", version=f"rtweekend {version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     r = sub.add_parser("render", help="render a scene to an image",
                        description="Render a scene file or a bundled scene.")
     r.add_argument("scene", nargs="?", default=DEFAULT_SCENE,
                    help=f"a .toml file or a bundled scene name (default: {DEFAULT_SCENE})")
-    r.add_argument("-o", "--output", help="output image: .png (tone-mapped), .npy or "
-                   ".exr (linear float32); default: SCENE.png")
+    r.add_argument("-o", "--output", help=f"output image, by extension: {', '.join(LDR)} "
+                   f"(8 bits, the books' tone map) or {', '.join(HDR)} (linear float32; "
+                   ".exr needs pip install 'rtweekend[exr]'); default: SCENE.png")
     budget = r.add_mutually_exclusive_group()
-    budget.add_argument("--spp", type=_positive_int, help="samples per pixel "
+    budget.add_argument("--spp", type=_option("spp"), help="samples per pixel "
                         "(default: the scene's)")
-    budget.add_argument("--time", type=_positive_number, metavar="SECONDS",
+    budget.add_argument("--time", type=_option("time", float), metavar="SECONDS",
                         help="render passes until this many seconds are spent")
-    r.add_argument("--width", type=_positive_int, help="image width (default: the scene's)")
-    r.add_argument("--height", type=_positive_int, help="image height (default: the scene's)")
-    r.add_argument("--seed", type=_seed, default=0, help="random seed (default 0)")
-    r.add_argument("--max-depth", type=_depth, help="ray segments per path (default: "
-                   "the scene's, 50 in the books); for a classic scene, the reflections "
-                   "followed (3 in the book, 0 allowed)")
-    r.add_argument("--threads", type=_positive_int, help="threads of a local render "
+    r.add_argument("--width", type=_option("width"), help="image width (default: the scene's)")
+    r.add_argument("--height", type=_option("height"), help="image height (default: the scene's)")
+    r.add_argument("--seed", type=_option("seed"), default=0, help="random seed (default 0)")
+    # 0 is the classic ray tracer's (no reflections); render() rejects it for the path tracer.
+    r.add_argument("--max-depth", type=_option("max_depth", integrator="classic"),
+                   help="ray segments per path (default: the scene's, 50 in the books); "
+                   "for a classic scene, the reflections followed (3 in the book, 0 allowed)")
+    r.add_argument("--threads", type=_option("threads"), help="threads of a local render "
                    "(default: all cores)")
     r.add_argument("--sampling", choices=tuple(SAMPLINGS),
                    help="diffuse sampling: the books' 0.5/0.5 mixture (default), cosine "
                    "only, or lights only")
-    r.add_argument("--clamp", type=_positive_number, metavar="X", help="cap every sample's "
+    r.add_argument("--clamp", type=_option("clamp", float), metavar="X", help="cap every sample's "
                    "channels at X: fewer fireflies, but BIASED (darker); off by default")
     cluster = r.add_mutually_exclusive_group()
     cluster.add_argument("--scheduler", metavar="ADDRESS", help="render on the Dask cluster "
@@ -104,6 +103,25 @@ def main(argv=None):
     except SceneError as e:
         print(f"rtweekend: error: {e}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except MemoryError:
+        # The memory check (memory.py) comes first; this is its safety net.
+        print("rtweekend: error: out of memory: render a smaller image; nothing written",
+              file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        # A second Ctrl-C (or one before rendering began): stop at once.  A file
+        # being written is removed by save_image; nothing else was written.
+        _leave(EXIT_INTERRUPTED, "rtweekend: interrupted; nothing written")
+
+
+def _leave(status, line):
+    """Print one line and exit now: os._exit, not interpreter shutdown, because
+    a compile or a pass abandoned on Ctrl-C may still be running in its thread
+    (kernel/calls.py), and shutting down under it can crash or hang."""
+    print(line, file=sys.stderr)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)
 
 
 # The renderer is imported when a command needs it, so that --help, `scenes` and
@@ -134,10 +152,10 @@ def _render(args):
                         threads=args.threads, sampling=args.sampling, clamp=args.clamp,
                         progress=not args.quiet, client=client)
     stats = result.stats
-    if stats.spp == 0:
-        print(f"rtweekend: {stats.stopped_by or 'stopped'} before the first samples; "
-              "nothing written", file=sys.stderr)
-        return EXIT_INTERRUPTED
+    if stats.samples == 0:
+        when = "while compiling" if stats.seconds == 0 else "before the first samples"
+        _leave(EXIT_INTERRUPTED, f"rtweekend: {stats.stopped_by or 'stopped'} {when}; "
+               "nothing written")
     try:
         save_image(result, output)
     except OSError as e:
@@ -145,8 +163,8 @@ def _render(args):
     print(f"{output}: {stats.summary()}")
     if stats.interrupted:
         why = "interrupted" if stats.stopped_by in (None, "Ctrl-C") else stats.stopped_by
-        print(f"rtweekend: {why}; {output} holds the {stats.spp} spp rendered",
-              file=sys.stderr)
+        print(f"rtweekend: {why}; {output} holds the {stats.spp} spp rendered"
+              f"{stats.partial_note}", file=sys.stderr)
         return EXIT_INTERRUPTED
     return 0
 

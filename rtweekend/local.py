@@ -1,55 +1,115 @@
 """The local driver: render a path-traced image here, in passes.
 
-Each pass adds samples to every pixel (path/renderer.py); between passes the
-progress is reported and Ctrl-C is looked at.  Passes aim at PASS_SECONDS each,
-so the bar moves and Ctrl-C is answered quickly; the image does not depend on
-how the samples were split into passes.
+Passes are sized by time, not by whole samples per pixel: each aims at
+PASS_SECONDS, and when adding one sample to every pixel would take longer, a
+pass covers only part of the rows (Renderer.add_rows) -- so the bar moves and
+Ctrl-C is answered within about PASS_SECONDS on any image.  A pixel's sums
+depend only on its sample indices, so the image does not depend on how the
+work was split into passes.  The kernels run in a worker thread while this
+thread waits awake to Ctrl-C (kernel/calls.py).
 """
+import time as _time
+
+import numba
+
 from .io.progress import Progress, StopOnInterrupt
+from .kernel.calls import Abandoned, call_awake
+from .path.kernel import render_pass
 
 PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
+GROWTH = 4              # a pass does at most this many times the work of the last
+#                         (a rate measured on a small pass may flatter the rest)
 
 
 def render_locally(renderer, spp, time):
     """Passes until spp samples per pixel (or `time` seconds) are rendered, with
     the renderer's options' progress (and threads: Renderer.add_samples).
 
-    Ctrl-C finishes the current pass and returns what was rendered
-    (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt.
+    Ctrl-C during the compile stops at once (nothing rendered: spp 0); after,
+    it finishes the current pass and returns what was rendered
+    (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt at once.
     """
-    report = Progress(renderer.options.progress, spp)
+    report = Progress(renderer.options.progress, spp, time)
+    threads = renderer.options.threads or numba.get_num_threads()
     interrupted = False
+    compiled = False
     try:
         with StopOnInterrupt() as stop:
-            renderer.compile()
-            report.started()
-            passes = 0
-            while n := next_pass(renderer.spp, spp, time, renderer.seconds):
-                renderer.add_samples(n)
-                passes += 1
-                report.update(renderer.spp, passes, renderer.seconds,
-                              renderer.width * renderer.height)
-                if stop.requested:
-                    interrupted = spp is None or renderer.spp < spp
-                    break
+            misses = _compiles()
+            try:
+                call_awake(renderer.compile, stop, abandon=True)
+            except Abandoned:
+                renderer.compile_seconds = _time.perf_counter() - report.t0
+                interrupted = True
+            compiled = _compiles() > misses
+            if not interrupted:
+                report.started()
+                passes, last = 0, 0
+                while work := next_pass(renderer, spp, time, last, threads):
+                    n, rows = work
+                    if rows == renderer.height:
+                        call_awake(lambda: renderer.add_samples(n), stop)
+                    else:
+                        call_awake(lambda: renderer.add_rows(n, rows), stop)
+                    passes, last = passes + 1, n * rows
+                    report.update(renderer, passes)
+                    if stop.requested:
+                        interrupted = spp is None or renderer.spp < spp
+                        break
     finally:
         report.close()
-    return renderer.result(spp_requested=spp, interrupted=interrupted, stopped_by="Ctrl-C")
+    result = renderer.result(spp_requested=spp, interrupted=interrupted,
+                             stopped_by="Ctrl-C")
+    result.stats.compiled = compiled
+    return result
 
 
-def next_pass(done, spp, budget, elapsed):
-    """How many samples per pixel the next pass adds (0: finished).
+def _compiles():
+    """How many times the render kernel was compiled, not loaded from the cache."""
+    return sum(render_pass.stats.cache_misses.values())
 
-    The first pass is 1 spp; later passes aim at PASS_SECONDS each, and a time
-    budget stops before a pass that would clearly overrun it.
+
+def next_pass(r, spp, budget, last, threads=1):
+    """(n, rows) of the next pass: n samples per pixel more in `rows` rows
+    (r.height: the whole image), or None when finished.
+
+    r: the Renderer (spp, seconds, height, and a pass over part of the rows in
+    progress: band, rows_done); last: the row-samples of the previous pass.
+    Work is counted in row-samples (one row, one sample per pixel).  The first
+    pass is one row per thread (a row of any scene is quick, a whole image of a
+    deep one is not); later ones aim at PASS_SECONDS
+    at the rate measured so far, growing at most GROWTH times a pass.  A time
+    budget stops before a pass that would clearly overrun it, and finishes a
+    pass over part of the rows that it started (the image keeps one spp
+    everywhere), except on an image so large that one sample per pixel does
+    not fit in the budget at all: then it stops with the rows reached.
     """
+    h = r.height
+    if spp is not None and r.spp >= spp and not r.band:
+        return None
+    done = r.spp * h + r.rows_done * r.band
     if done == 0:
-        return 1
-    per_spp = elapsed / done
-    n = max(1, int(PASS_SECONDS / per_spp)) if per_spp > 0 else 1
-    if spp is not None:
-        return min(n, spp - done)
-    remaining = budget - elapsed
-    if remaining < 0.5 * per_spp:
-        return 0
-    return max(1, min(n, int(remaining / per_spp)))
+        return 1, min(h, max(1, threads))
+    per_unit = r.seconds / done
+    units = max(1.0, PASS_SECONDS / per_unit) if per_unit > 0 else float(h)
+    units = min(units, GROWTH * last)
+    if budget is not None:
+        remaining = budget - r.seconds
+        if remaining < 0.5 * per_unit * (r.band or 1):       # not even one row left
+            if r.band and r.spp > 0:
+                pass            # finish the pass in progress: see above
+            else:
+                return None
+        elif not r.band:
+            fits = int(remaining / (per_unit * h))            # whole-image spp that fit
+            if fits == 0 and r.spp > 0:
+                return None
+            units = min(units, max(1.0, remaining / per_unit))
+            if fits:
+                units = min(units, fits * h)
+    if r.band:                          # finish the pass over part of the rows first
+        return r.band, min(h - r.rows_done, max(1, int(units // r.band)))
+    n = int(units // h)
+    if n >= 1:
+        return (n if spp is None else min(n, spp - r.spp)), h
+    return 1, min(h, max(1, int(units)))

@@ -2,16 +2,19 @@
 
     options = RenderOptions("path", spp=64, seed=1, sampling="mixture")
 
-Every option the command line, the API or a Renderer passes goes through here;
-a bad one raises SceneError with a one-line message naming it.
+Every option the command line, the API or a Renderer passes goes through here
+(its numbers through checks.py, as the scene's do); a bad one raises SceneError
+with a one-line message naming it.
 """
+import difflib
 import math
 from contextlib import contextmanager
 from dataclasses import dataclass
 
 import numba
 
-from .errors import SceneError
+from . import checks
+from .errors import FieldError, SceneError
 
 # Sampling strategies of the path tracer: each one's share of light sampling in
 # the mixture pdf at diffuse hits (path/pdf.py).
@@ -19,6 +22,8 @@ SAMPLINGS = {"cosine": 0.0, "mixture": 0.5, "light": 1.0}
 DEFAULT_SAMPLING = "mixture"
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.
 PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh")
+# The numeric options (checks.option holds each one's rule).
+NUMBERS = ("spp", "time", "seed", "width", "height", "max_depth", "threads", "clamp")
 
 
 @dataclass(frozen=True)
@@ -47,49 +52,56 @@ class RenderOptions:
     progress: object = False
 
     def __post_init__(self):
+        if self.integrator not in ("path", "classic"):
+            raise SceneError(f"render: integrator must be 'path' or 'classic', "
+                             f"got {self.integrator!r}")
+        if self.seed is None:
+            raise SceneError("render: seed: expected an integer, got None")
         if self.integrator == "classic":
             self._check_classic()
         else:
             self._check_path()
 
     def _check_path(self):
-        clamp, spp, time = self.clamp, self.spp, self.time
-        if clamp is not None and not (isinstance(clamp, (int, float)) and clamp > 0):
-            raise SceneError(f"render: clamp must be a number > 0, got {clamp!r}")
-        if spp is not None and time is not None:
+        if self.spp is not None and self.time is not None:
             raise SceneError("render: give either spp or time, not both")
-        if spp is not None and (isinstance(spp, bool) or not isinstance(spp, int) or spp < 1):
-            raise SceneError(f"render: spp must be an integer >= 1, got {spp!r}")
-        if time is not None and not (isinstance(time, (int, float)) and time > 0):
-            raise SceneError(f"render: time must be a number of seconds > 0, got {time!r}")
-        depth = self.max_depth
-        if depth is not None and (not isinstance(depth, int) or depth < 1):
-            raise SceneError(f"render: max_depth must be an integer >= 1, got {depth!r}")
+        self._check_numbers()
         if self.sampling is not None and self.sampling not in SAMPLINGS:
-            raise SceneError(f"render: sampling must be one of {', '.join(SAMPLINGS)}, "
+            raise SceneError(f"render: sampling: must be one of {', '.join(SAMPLINGS)}, "
                              f"got {self.sampling!r}")
-        seed = self.seed
-        if not isinstance(seed, int) or not 0 <= seed < 2**63:
-            raise SceneError(f"render: seed must be an integer in [0, 2**63), got {seed!r}")
-        self._check_threads()
+        if self.bvh is not None and not isinstance(self.bvh, bool):
+            raise SceneError(f"render: bvh: must be True, False or None, got {self.bvh!r}")
 
     def _check_classic(self):
         for name in PATH_ONLY:
             if getattr(self, name) is not None:
                 raise SceneError(f"render: {name} does not apply to the classic ray tracer "
                                  "(one ray per pixel, no sampling)")
-        depth = self.max_depth
-        if depth is not None and (not isinstance(depth, int) or depth < 0):
-            raise SceneError(f"render: max_depth must be an integer >= 0, got {depth!r}")
-        self._check_threads()
+        self._check_numbers()
 
-    def _check_threads(self):
-        available = numba.config.NUMBA_NUM_THREADS
-        threads = self.threads
-        if threads is not None and (not isinstance(threads, int)
-                                    or not 1 <= threads <= available):
-            raise SceneError(f"render: threads must be between 1 and {available}, "
-                             f"got {threads!r}")
+    def _check_numbers(self):
+        """Every number through checks.option: type, finite, range (normalised:
+        4.0 samples become 4)."""
+        for name in NUMBERS:
+            try:
+                value = checks.option(name, getattr(self, name), integrator=self.integrator,
+                                      threads_available=numba.config.NUMBA_NUM_THREADS)
+            except FieldError as e:
+                raise SceneError(f"render: {e}") from None
+            object.__setattr__(self, name, value)
+
+    @classmethod
+    def named(cls, where, integrator, **fields):
+        """RenderOptions(integrator, **fields), an unknown field a SceneError
+        naming `where` (Renderer's keyword arguments are these fields)."""
+        known = [f for f in cls.__dataclass_fields__ if f != "integrator"]
+        for key in fields:
+            if key not in known:
+                close = difflib.get_close_matches(key, known, n=1)
+                hint = f" (did you mean '{close[0]}'?)" if close else ""
+                raise SceneError(f"{where}: unknown option '{key}'{hint}; expected one of: "
+                                 + ", ".join(known))
+        return cls(integrator, **fields)
 
     @property
     def light_weight(self):

@@ -23,6 +23,9 @@ class RenderStats:
     clamp: float | None = None    # the (biased) cap on sample values, if any
     integrator: str = "path"      # or "classic" (one ray per pixel, no noise)
     stopped_by: str | None = None  # why a render stopped early: "Ctrl-C", a lost cluster
+    partial_rows: int = 0    # rows that have partial_spp samples more than spp (a pass
+    partial_spp: int = 0     # over part of the rows, interrupted)
+    compiled: bool = False   # the kernels were compiled (not loaded from the cache)
 
     @property
     def samples_per_s(self):
@@ -40,16 +43,25 @@ class RenderStats:
     def firefly_fraction(self):
         return self.fireflies / self.samples if self.samples else 0.0
 
+    @property
+    def compile_note(self):
+        """", plus 16.3 s compiling" when the kernels were compiled (not loaded)."""
+        if not self.compiled:
+            return ""
+        return f", plus {self.compile_seconds:.1f} s compiling (once: later runs load it)"
+
     def summary(self):
         if self.integrator == "classic":
             return (f"{self.width}x{self.height}, classic ray tracer, 1 ray per pixel, "
-                    f"{self.seconds:.3f} s, {self.rays_per_s / 1e6:.3f} M rays/s "
+                    f"{self.seconds:.3f} s{self.compile_note}, "
+                    f"{self.rays_per_s / 1e6:.3f} M rays/s "
                     f"(primary, shadow and reflected), {self.nan_dropped} NaN/Inf "
                     "samples dropped")
         note = (f" (interrupted: {self.spp} of {self.spp_requested} spp)"
                 if self.interrupted and self.spp_requested else
                 " (interrupted)" if self.interrupted else "")
-        return (f"{self.width}x{self.height}, {self.spp} spp, {self.seconds:.2f} s, "
+        return (f"{self.width}x{self.height}, {self.spp} spp{self.partial_note}, "
+                f"{self.seconds:.2f} s{self.compile_note}, "
                 f"{self.samples_per_s / 1e6:.3f} M samples/s, "
                 f"{self.rays_per_s / 1e6:.3f} M rays/s, "
                 f"{self.nan_dropped} NaN/Inf samples dropped, "
@@ -57,19 +69,28 @@ class RenderStats:
                 f"{100 * self.firefly_energy:.1f}% of the energy"
                 + (f", clamped at {self.clamp:g} (biased)" if self.clamp else "") + note)
 
+    @property
+    def partial_note(self):
+        """" (17 in 1200 of 3000 rows)" after a pass over part of the rows."""
+        if not self.partial_rows:
+            return ""
+        return (f" ({self.spp + self.partial_spp} in {self.partial_rows} of "
+                f"{self.height} rows)")
+
 
 class RenderResult:
     """What render() returns; unpacks as (image, stats).
 
-    image: HxWx3 float32 linear radiance; stats: RenderStats; stderr: HxWx3
-    float32 per-pixel standard error, estimated from the samples' own variance.
-    display: how an 8-bit file shows the image -- "gamma2" (the books' tone
-    map) or "canvas" (the classic ray tracer's colours / 255, stored as is).
+    image: HxWx3 float32 linear radiance, for every scene (a classic scene's
+    canvas colour c in 0..255 is the radiance (c / 255)**2, which the books'
+    tone map writes back as c exactly); stats: RenderStats; stderr: HxWx3
+    float32 per-pixel standard error, estimated from the samples' own variance
+    (0 for a classic scene).  save_image(result) and save_image(result.image)
+    write the same file.
     """
 
-    def __init__(self, image, stats, stderr, display="gamma2"):
+    def __init__(self, image, stats, stderr):
         self.image, self.stats, self.stderr = image, stats, stderr
-        self.display = display
 
     def __iter__(self):
         return iter((self.image, self.stats))

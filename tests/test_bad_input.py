@@ -176,7 +176,18 @@ BAD_COMMANDS = [
     (["render", "metals", "--spp", "-1"], ["--spp", "must be >= 1"]),
     (["render", "metals", "--width", "0"], ["--width", "must be >= 1"]),
     (["render", "metals", "--seed", "x"], ["--seed", "expected an integer"]),
-    (["render", "metals", "--threads", "999"], ["threads must be between 1 and"]),
+    (["render", "metals", "--threads", "999"], ["render: threads: must be <= "]),
+    # Every number: finite, of the right type, in range (checks.py), one line, exit 2.
+    (["render", "metals", "--time", "inf"], ["--time", "must be finite, got inf"]),
+    (["render", "metals", "--time", "nan"], ["--time", "must be finite, got nan"]),
+    (["render", "metals", "--clamp", "inf"], ["--clamp", "must be finite"]),
+    (["render", "metals", "--spp", "2.5"], ["--spp", "expected an integer, got '2.5'"]),
+    (["render", "metals", "--spp", "10000000000"], ["--spp", "must be <= 1000000000"]),
+    (["render", "metals", "--max-depth", "99999999999"], ["--max-depth", "must be <= "]),
+    (["render", "metals", "--max-depth", "0"], ["render: max_depth: must be >= 1"]),
+    (["render", "metals", "--seed", "-1"], ["--seed", "must be >= 0"]),
+    (["render", "metals", "--seed", str(2**63)], ["--seed", "must be <= 2**63 - 1"]),
+    (["render", "metals", "--width", "70000"], ["--width", "must be <= 65536"]),
     (["render", "metals", "--time", "0"], ["--time", "must be > 0"]),
     (["render", "metals", "--sampling", "magic"], ["--sampling", "invalid choice"]),
     (["render", "no_such.toml"], ["no_such.toml: no such scene file"]),
@@ -265,3 +276,92 @@ def test_any_text_loads_or_raises_scene_error(tmp_path_factory, text):
         rt.load_scene(path)
     except rt.SceneError:
         pass
+
+
+# The same rules for the API and a Renderer: SceneError (a ValueError), never
+# OverflowError or TypeError, and nothing is compiled or rendered.
+
+@pytest.mark.parametrize("options, words", [
+    (dict(time=float("inf")), ["render: time: must be finite, got inf"]),
+    (dict(time=float("nan")), ["render: time: must be finite, got nan"]),
+    (dict(time=10**400), ["render: time: must be within"]),
+    (dict(time="3"), ["render: time: expected a number, got '3'"]),
+    (dict(spp=2.5), ["render: spp: expected an integer, got 2.5"]),
+    (dict(spp=True), ["render: spp: expected an integer, got True"]),
+    (dict(spp=-5), ["render: spp: must be >= 1, got -5"]),
+    (dict(clamp=float("inf")), ["render: clamp: must be finite"]),
+    (dict(seed=-1), ["render: seed: must be >= 0"]),
+    (dict(seed=1.5), ["render: seed: expected an integer"]),
+    (dict(width=0), ["render: width: must be >= 1"]),
+    (dict(height=10**6), ["render: height: must be <= 65536"]),
+    (dict(max_depth=0), ["render: max_depth: must be >= 1"]),
+    (dict(threads=0), ["render: threads: must be >= 1"]),
+    (dict(threads=1.0 + 2**-40), ["render: threads: expected an integer"]),
+    (dict(bvh="yes"), ["render: bvh: must be True, False or None"]),
+])
+def test_bad_render_option_raises_scene_error(options, words):
+    scene = rt.load_scene("metals")
+    with pytest.raises(rt.SceneError) as info:
+        rt.render(scene, **options)
+    for w in words:
+        assert w in str(info.value), (w, str(info.value))
+    with pytest.raises(rt.SceneError) as again:      # the Renderer: the same rule
+        rt.Renderer(scene, **options)
+    assert str(again.value) == str(info.value)
+
+
+def test_renderer_methods_check_their_numbers():
+    r = rt.Renderer(rt.load_scene("metals"), width=4, height=2, threads=1)
+    assert r.options.threads == 1
+    for n, words in [(-5, "add_samples: n: must be >= 1, got -5"),
+                     (0, "add_samples: n: must be >= 1, got 0"),
+                     (2.5, "add_samples: n: expected an integer, got 2.5"),
+                     (float("inf"), "add_samples: n: expected an integer, got inf"),
+                     (10**10, "add_samples: n: must be <= ")]:
+        with pytest.raises(rt.SceneError, match=words):
+            r.add_samples(n)
+    assert r.spp == 0 and r.seconds == 0.0
+    with pytest.raises(rt.SceneError, match="Renderer: unknown option 'thread' "
+                       r"\(did you mean 'threads'\?\)"):
+        rt.Renderer(rt.load_scene("metals"), thread=1)
+
+
+@pytest.mark.parametrize("build, words", [
+    # Lengths whose squares would underflow are refused with the reason.
+    (lambda: rt.Camera(lookfrom=(0, 0, 3e-170), lookat=(0, 0, 0)),
+     ["camera: lookat: is only 3e-170 from lookfrom", "underflow"]),
+    (lambda: rt.Camera(lookfrom=(1e50, 0, 0), lookat=(1e50, 0, 1e30)),
+     ["camera: lookat: is only 1e+30 from lookfrom, at coordinates of 1e+50",
+      "lost in rounding"]),
+    (lambda: rt.Camera(vup=(0, 1e-170, 0)), ["camera: vup:", "too short"]),
+    (lambda: rt.Camera(focus_dist=1e-120), ["camera: focus_dist: 1e-120 is too small"]),
+    (lambda: rt.sphere((0, 0, 0), 1e-160, rt.lambertian((.5, .5, .5))),
+     ["sphere: radius: 1e-160 is too small"]),
+    (lambda: rt.xy_rect(0, 1e-120, 0, 1, 0, rt.lambertian((.5, .5, .5))),
+     ["xy_rect: x1: is only 1e-120 from x0"]),
+    (lambda: rt.box((0, 0, 0), (1, 1e-150, 1), rt.lambertian((.5, .5, .5))),
+     ["box: p1: y is only 1e-150 from p0's y"]),
+    (lambda: rt.directional(0.2, (0, 1e-170, 0)), ["directional light: direction:",
+                                                   "too short"]),
+])
+def test_lengths_too_small_for_the_arithmetic(build, words):
+    with pytest.raises(rt.SceneError) as info:
+        build()
+    for w in words:
+        assert w in str(info.value), (w, str(info.value))
+
+
+def test_a_camera_close_to_its_target_is_fine_when_the_scale_allows():
+    # 1e-90 apart near the origin: squares of 1e-180 are normal doubles.
+    camera = rt.Camera(lookfrom=(0, 0, 3e-90), lookat=(0, 0, 0))
+    assert camera.focus_dist == 3e-90
+
+
+def test_unknown_scene_hints_at_the_file(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "book1.toml").write_text(GOOD)
+    status, err = run_cli(tmp_path, capsys, "render", "book1", "-q")
+    assert status == 2 and len(err) == 1
+    assert "unknown scene 'book1' (did you mean the file 'book1.toml'?)" in err[0]
+    status, err = run_cli(tmp_path, capsys, "render", "cornel_box", "-q")
+    assert "(did you mean 'cornell_box'?)" in err[0]

@@ -6,6 +6,7 @@ import pytest
 import rtweekend as rt
 from rtweekend.classic.kernel import classic_arrays, render_canvas
 from rtweekend.cli import main
+from rtweekend.io.image import tonemap
 
 from test_classic import DEMO_LIGHTS, DEMO_SPHERES, twin_render
 
@@ -46,11 +47,38 @@ def test_file_matches_the_numpy_twin_of_the_book(tmp_path):
 
 def test_depth_and_size_overrides(tmp_path):
     r = rt.render(rt.load_scene("cgfs"), width=40, height=30, max_depth=0)
-    assert r.image.shape == (30, 40, 3) and r.display == "canvas"
-    assert np.array_equal(np.rint(r.image * 255).astype(np.uint8), _demo_canvas(40, 30, 0))
-    rt.save_image(r, tmp_path / "c.png")          # the canvas, not tone-mapped
-    assert np.array_equal(iio.imread(tmp_path / "c.png"), _demo_canvas(40, 30, 0))
+    canvas = _demo_canvas(40, 30, 0)
+    assert r.image.shape == (30, 40, 3)
+    # Linear radiance, as for every scene: the canvas colour c is (c / 255)**2.
+    assert np.array_equal(r.image, ((canvas / 255.0) ** 2).astype(np.float32))
+    rt.save_image(r, tmp_path / "c.png")
+    assert np.array_equal(iio.imread(tmp_path / "c.png"), canvas)
     assert r.stats.rays > 40 * 30                  # primary + shadow rays
+
+
+def test_every_documented_way_of_saving_writes_the_canvas(tmp_path):
+    # The README shows both: saving the result, and saving the unpacked image.
+    scene = rt.load_scene("cgfs")
+    result = rt.render(scene, width=40, height=30)
+    image, stats = rt.render(scene, width=40, height=30)
+    rt.save_image(result, tmp_path / "result.png")
+    rt.save_image(image, tmp_path / "image.png")
+    rt.save_image(result.image, tmp_path / "result_image.png")
+    canvas = _demo_canvas(40, 30)
+    for name in ("result.png", "image.png", "result_image.png"):
+        assert np.array_equal(iio.imread(tmp_path / name), canvas), name
+    assert (tmp_path / "result.png").read_bytes() == (tmp_path / "image.png").read_bytes()
+    # The command writes the same file too.
+    assert main(["render", "cgfs", "-o", str(tmp_path / "cli.png"), "-q", "--width", "40",
+                 "--height", "30"]) == 0
+    assert (tmp_path / "cli.png").read_bytes() == (tmp_path / "image.png").read_bytes()
+
+
+def test_the_tone_map_gives_back_every_canvas_colour():
+    from rtweekend.classic.render import canvas_radiance
+    from rtweekend.io.image import tonemap
+    c = np.arange(256, dtype=np.uint8).reshape(16, 16, 1).repeat(3, axis=2)
+    assert np.array_equal(tonemap(canvas_radiance(c)), c)
 
 
 def test_builder_api_makes_the_same_scene():
@@ -61,7 +89,7 @@ def test_builder_api_makes_the_same_scene():
     scene.lights += [rt.ambient(0.2), rt.point(0.6, (2, 1, 0)),
                      rt.directional(0.2, (1, 4, 4))]
     r = rt.render(scene)
-    assert np.array_equal(np.rint(r.image * 255).astype(np.uint8), _demo_canvas(32, 32))
+    assert np.array_equal(tonemap(r.image), _demo_canvas(32, 32))
 
 
 @pytest.mark.parametrize("args, words", [

@@ -79,9 +79,11 @@ def test_ctrl_c_keeps_the_passes_rendered(tmp_path):
     reader = threading.Thread(target=pump, daemon=True)
     reader.start()
     deadline = time.monotonic() + 120
-    while b"pass 2" not in seen and time.monotonic() < deadline and p.poll() is None:
+    # The bar's "2/100000 spp": two samples in every pixel (early passes may
+    # cover part of the rows).
+    while b" 2/100000 spp" not in seen and time.monotonic() < deadline and p.poll() is None:
         time.sleep(0.05)
-    assert b"pass 2" in seen, seen.decode(errors="replace")
+    assert b" 2/100000 spp" in seen, seen.decode(errors="replace")
     p.send_signal(signal.SIGINT)
     p.wait(timeout=120)
     reader.join(timeout=10)             # stderr is read by the pump alone

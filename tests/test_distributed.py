@@ -124,7 +124,7 @@ def test_api_errors(cornell_box, client):
         rt.render(cornell_box, spp=1, threads=1, client=client)
     with pytest.raises(ClusterError, match="classic scene"):
         rt.render(rt.load_scene("cgfs"), client=client)
-    with pytest.raises(rt.SceneError, match="spp must be"):
+    with pytest.raises(rt.SceneError, match="spp: must be"):
         rt.render(cornell_box, spp=0, client=client)
 
 

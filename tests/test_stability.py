@@ -102,6 +102,19 @@ def test_cornell_box_is_the_same_at_every_scale():
         assert images[s].stats.nan_dropped == 0
 
 
+def test_scales_down_to_the_bound_render_the_same_bits():
+    # A power of two scales every length exactly: while no square underflows
+    # (lengths >= 1e-100), the image is the same to the bit.  Below, the scene
+    # is refused, naming the length.
+    scene = rt.load_scene("cornell_box")
+    base, _ = rt.render(scene, spp=4, width=24, height=24, seed=4)
+    for s in (2.0**-330, 2.0**300):         # 5.7e-100 .. 2e90: all lengths in bounds
+        image, stats = rt.render(_scaled(scene, s), spp=4, width=24, height=24, seed=4)
+        assert np.array_equal(image, base), s
+    with pytest.raises(rt.SceneError, match="too small|only .* from"):
+        _scaled(scene, 1e-160)
+
+
 # 5. Total internal reflection and grazing angles in the dielectric.
 
 unit_vectors = st.tuples(st.floats(-1, 1), st.floats(-1, 1), st.floats(-1, 1)).filter(
@@ -123,14 +136,34 @@ def test_dielectric_scatter_is_finite_and_unit(d, ior, front, grazing, seed):
 
 # 6. Fireflies are counted, with their share of the energy; clamp is explicit.
 
-def _firefly_scene():
-    """A wall of radiance 1 with a tiny patch of radiance 1e6 in front of it:
-    camera samples that hit the patch are the fireflies, and nothing else is."""
+def _direct_firefly_scene():
+    """A wall of radiance 1 with a tiny patch of radiance 1e6 in front of it,
+    both seen directly by the camera."""
     scene = rt.Scene(camera=rt.Camera(lookfrom=(0, 0, 5), lookat=(0, 0, 0), vfov=10,
                                       width=8, height=8), max_depth=1)
     scene.add(rt.xy_rect(-5, 5, -5, 5, 0, rt.diffuse_light((1, 1, 1))))
     scene.add(rt.xy_rect(0.01, 0.04, 0.01, 0.05, 0.1, rt.diffuse_light((1e6,) * 3)))
     return scene
+
+
+def _firefly_scene():
+    """The same wall and patch behind the camera, seen in a perfect mirror: camera
+    samples whose reflection hits the patch are the fireflies, nothing else is."""
+    scene = rt.Scene(camera=rt.Camera(lookfrom=(0, 0, 5), lookat=(0, 0, 0), vfov=10,
+                                      width=8, height=8), max_depth=2)
+    scene.add(rt.xy_rect(-5, 5, -5, 5, 0, rt.metal((1, 1, 1), 0.0)))
+    scene.add(rt.xy_rect(-15, 15, -15, 15, 10, rt.diffuse_light((1, 1, 1))).flip_face())
+    scene.add(rt.xy_rect(0.03, 0.12, 0.03, 0.15, 9.9,
+                         rt.diffuse_light((1e6,) * 3)).flip_face())
+    return scene
+
+
+def test_lights_seen_directly_are_no_fireflies():
+    r = rt.render(_direct_firefly_scene(), spp=200, seed=5)
+    # The patch is in the image, its samples (1e6) above 100x the image's mean ...
+    assert r.image.max() > 1000 and 1e6 > 100 * r.image.mean()
+    # ... but what a camera ray sees emitted is no firefly.
+    assert r.stats.fireflies == 0 and r.stats.firefly_energy == 0.0
 
 
 def test_fireflies_are_counted_exactly():
@@ -171,7 +204,10 @@ def test_camera_inside_a_glass_ball_sees_the_furnace():
     (dict(vfov=180), "vfov: must be < 180"),
     (dict(vfov=-5), "vfov"),
     (dict(width=0), "width: must be >= 1"),
-    (dict(focus_dist=0), "focus_dist: must be > 0"),
+    (dict(focus_dist=0), "focus_dist: must not be 0"),
+    (dict(focus_dist=-1), "focus_dist: must be >= 0"),
+    (dict(lookfrom=(0, 0, 3e-170), lookat=(0, 0, 0)),
+     "lookat: is only 3e-170 from lookfrom: the renderer squares distances"),
 ])
 def test_impossible_cameras_are_errors(kwargs, message):
     with pytest.raises(rt.SceneError, match=f"camera: {message}"):

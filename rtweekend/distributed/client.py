@@ -54,7 +54,7 @@ class _Render:
     def __init__(self, client, renderer, spp, budget):
         self.client, self.r = client, renderer
         self.spp, self.budget = spp, budget
-        self.report = Progress(renderer.options.progress, spp)
+        self.report = Progress(renderer.options.progress, spp, budget)
         self.pending = {}        # future -> (s0, s1) of the block it renders
         self.finished = {}       # s0 -> a task's result, waiting for the blocks below it
         self.next_s0 = 0         # the first sample not yet submitted
@@ -281,8 +281,7 @@ class _Render:
             self.r.merge(unpack(out, self.r.height, self.r.width), out["s1"])
             self.passes += 1
             self.r.seconds = _time.perf_counter() - self.t0
-            self.report.update(self.r.spp, self.passes, self.r.seconds,
-                               self.r.width * self.r.height)
+            self.report.update(self.r, self.passes)
 
     def _stop(self):
         """First Ctrl-C: cancel the blocks not yet running, finish those that are."""

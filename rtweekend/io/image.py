@@ -12,10 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import SceneError
+from .formats import FORMATS, HDR, LDR  # noqa: F401
 
-LDR = (".png", ".jpg", ".jpeg", ".bmp", ".tga")   # tone-mapped, 8 bits
-HDR = (".npy", ".exr")                             # linear radiance, float32
-FORMATS = LDR + HDR
 
 
 def tonemap(image):
@@ -57,14 +55,7 @@ def check_output_path(path):
                          f"{e.strerror or e}") from None
 
 
-def to_bytes_for_display(image, display):
-    """8-bit pixels: the books' tone map, or the classic canvas stored as is."""
-    if display == "canvas":
-        return np.rint(np.clip(np.nan_to_num(image) * 255.0, 0, 255)).astype(np.uint8)
-    return tonemap(image)
-
-
-def encode(image, ext, display="gamma2"):
+def encode(image, ext):
     """The file contents for `image` (HxWx3 float) as bytes."""
     image = np.asarray(image, dtype=np.float32)
     if image.ndim != 3 or image.shape[2] != 3:
@@ -76,7 +67,7 @@ def encode(image, ext, display="gamma2"):
         _write_exr(image, buf)
     else:
         import imageio.v3 as iio
-        return iio.imwrite("<bytes>", to_bytes_for_display(image, display), extension=ext)
+        return iio.imwrite("<bytes>", tonemap(image), extension=ext)
     return buf.getvalue()
 
 
@@ -95,16 +86,15 @@ def _write_exr(image, buf):
 def save_image(image, path):
     """Write `image` to `path`, atomically; the format follows the extension.
 
-    image: an HxWx3 array of linear radiance, or what render() returned (a
-    classic render then keeps its exact canvas colours).  .png/.jpg/...: the
-    books' tone map; .npy and .exr: float32 linear values (.exr needs the
-    `exr` extra).
+    image: an HxWx3 array of linear radiance, or what render() returned (the
+    same file: a result is its .image).  .png/.jpg/...: the books' tone map
+    (which writes a classic scene's canvas colours exactly); .npy and .exr:
+    float32 linear values (.exr needs the `exr` extra).
     """
-    display = getattr(image, "display", "gamma2")
     image = getattr(image, "image", image)
     path = Path(path)
     check_output_path(path)
-    data = encode(image, path.suffix.lower(), display)
+    data = encode(image, path.suffix.lower())
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part",
                                dir=path.parent if str(path.parent) else ".")
     try:

@@ -1,7 +1,11 @@
-"""Feedback during a render: a progress bar, and Ctrl-C that keeps the passes."""
+"""Feedback during a render: a progress bar, and Ctrl-C that keeps the passes.
+
+The drivers wait for their kernels awake (kernel/calls.py), so the handler
+below runs as soon as Ctrl-C is pressed, also during a compile or a pass."""
 import signal
 import sys
 import threading
+import time as time_
 
 
 class StopOnInterrupt:
@@ -27,30 +31,49 @@ class StopOnInterrupt:
 
 
 class Progress:
-    """Reports passes to a callable, to a tqdm bar on stderr, or nowhere."""
+    """Reports passes to a callable, to a tqdm bar on stderr, or nowhere.
 
-    def __init__(self, progress, spp):
+    The bar counts samples per pixel towards spp (fractions: a pass over part
+    of the rows), or seconds towards a time budget; the pass number, the spp
+    reached and the rate follow it.  The callable gets (spp reached, spp
+    requested or None, samples per second).
+    """
+
+    # tqdm writes desc with ": " after it, and postfix with ", " before it.
+    FORMAT = "{desc}{percentage:3.0f}%|{bar}| {elapsed}<{remaining}{postfix}"
+
+    def __init__(self, progress, spp, time=None):
         self.callback = progress if callable(progress) else None
-        self.spp = spp
+        self.spp, self.time = spp, time
+        self.t0 = time_.perf_counter()
         self.bar = None
         if progress is True:
             from tqdm import tqdm
-            self.bar = tqdm(total=spp, unit="spp", desc="compiling", leave=False,
-                            dynamic_ncols=True, file=sys.stderr)
+            self.bar = tqdm(total=None, desc="compiling", leave=False, dynamic_ncols=True,
+                            file=sys.stderr, bar_format="{desc} ({elapsed})")
 
     def started(self):
         """Compiling is over: restart the bar's clock so its rate is honest."""
         if self.bar is not None:
             self.bar.set_description("render", refresh=False)
-            self.bar.reset(total=self.spp)
+            self.bar.bar_format = self.FORMAT
+            self.bar.reset(total=self.time if self.time is not None else self.spp)
 
-    def update(self, done, passes, seconds, pixels):
-        rate = done * pixels / seconds if seconds > 0 else 0.0
+    def update(self, renderer, passes):
+        r = renderer
+        samples = r.width * (r.height * r.spp + r.rows_done * r.band)
+        rate = samples / r.seconds if r.seconds > 0 else 0.0
         if self.callback is not None:
-            self.callback(done, self.spp, rate)
+            self.callback(r.spp, self.spp, rate)
         if self.bar is not None:
+            if self.time is not None:
+                done, spp = min(r.seconds, self.time), f"{r.spp} spp"
+            else:
+                done, spp = r.spp + r.band * r.rows_done / r.height, f"{r.spp}/{self.spp} spp"
+            self.bar.set_postfix_str(f"{spp}, pass {passes}, {rate / 1e6:.2f} M samples/s",
+                                     refresh=False)
             self.bar.update(done - self.bar.n)
-            self.bar.set_postfix_str(f"pass {passes}, {rate / 1e6:.2f} M samples/s")
+            self.bar.refresh()
 
     def close(self):
         if self.bar is not None:

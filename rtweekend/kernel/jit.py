@@ -109,8 +109,12 @@ def jit_row(fn):
 
 
 def jit_parallel(fn):
-    """A kernel with a `prange` loop over rows (path/kernel.py, classic/kernel.py)."""
-    return njit(parallel=True, **_OPTIONS)(fn)
+    """A kernel with a `prange` loop over rows (path/kernel.py, classic/kernel.py).
+
+    nogil: the drivers call it from a worker thread while the main thread
+    waits awake to Ctrl-C (kernel/calls.py); it releases the GIL, or the main
+    thread could not run the signal handler until the kernel returned."""
+    return njit(parallel=True, nogil=True, **_OPTIONS)(fn)
 
 
 def like(x, value):

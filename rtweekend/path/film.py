@@ -6,7 +6,8 @@ accum2), so the sums depend only on the sample indices, never on how passes,
 threads or machines split the work.  Per row: the ray segments traced and the
 samples dropped as NaN/Inf (row_stats), and a histogram of sample values
 (hist_n counts, hist_e sums; BINS_PER_OCTAVE bins per factor of 2 from
-2**LOG2_LOWEST up) for the firefly count.
+2**LOG2_LOWEST up) for the firefly count, of each sample but for what its
+camera ray saw emitted.
 """
 import math
 from typing import NamedTuple
@@ -46,6 +47,24 @@ def new_film(height, width):
                 np.zeros((height, HIST_BINS)))
 
 
+def film_bytes(height, width):
+    """The bytes new_film(height, width) allocates."""
+    return height * width * (4 * 3 * 8 + 8) + height * (2 * 8 + HIST_BINS * (8 + 8))
+
+
+# What a render needs beyond its film: from the sums to an image
+# (mean_and_stderr's float64 temporaries and its two float32 results; measured
+# with tracemalloc, 160 bytes per pixel at the peak), with a margin.  The
+# kernels hold no per-thread buffers (a path is scalars); writing the file
+# (about 80 bytes per pixel) comes after the film is freed.
+RESULT_BYTES_PER_PIXEL = 200
+
+
+def render_bytes(height, width):
+    """About the most memory a render of this size holds at once."""
+    return film_bytes(height, width) + RESULT_BYTES_PER_PIXEL * height * width
+
+
 def merge(film, other):
     """Add the sums of the next block(s): with the blocks merged in order the
     image is bit-identical to rendering them here, in one process."""
@@ -54,11 +73,13 @@ def merge(film, other):
 
 
 @jit_inline
-def add_sample(film, y, x, s, lr, lg, lb, clamp):
+def add_sample(film, y, x, s, lr, lg, lb, clamp, er, eg, eb):
     """Add sample s of pixel (x, y), radiance (lr, lg, lb), capped at clamp.
 
     A NaN or Inf sample is counted and dropped, never summed.  The sample that
-    completes a block moves the block's sums into the image's.
+    completes a block moves the block's sums into the image's.  (er, eg, eb):
+    the part of it that its camera ray saw emitted, left out of the histogram
+    (a light seen directly is no firefly).
     """
     if math.isfinite(lr + lg + lb):
         r, g, b = min(lr, clamp), min(lg, clamp), min(lb, clamp)
@@ -69,7 +90,7 @@ def add_sample(film, y, x, s, lr, lg, lb, clamp):
         film.partial2[y, x, 1] += g * g
         film.partial2[y, x, 2] += b * b
         film.valid[y, x] += 1
-        v = (r + g + b) / 3.0
+        v = ((r - min(er, clamp)) + (g - min(eg, clamp)) + (b - min(eb, clamp))) / 3.0
         if v > 0.0:
             i = int((math.log2(v) - LOG2_LOWEST) * BINS_PER_OCTAVE)
             i = min(max(i, 0), HIST_BINS - 1)
@@ -102,12 +123,16 @@ def mean_and_stderr(film):
 def firefly_stats(film, image_mean):
     """(samples above FIREFLY_FACTOR x image_mean, their share of all energy).
 
+    A sample's value here leaves out what its camera ray saw emitted (a light
+    in view is no firefly: add_sample); the share is of the whole image's
+    energy, the lights seen directly included.
+
     From the histogram of sample values: the bin holding the threshold is split
     in proportion to where the threshold falls in it (log scale), so the count
     is exact whenever no sample lies within 1/BINS_PER_OCTAVE octave of it.
     """
     counts, energy = film.hist_n.sum(axis=0), film.hist_e.sum(axis=0)
-    total = float(energy.sum())
+    total = (float(film.accum.sum()) + float(film.partial.sum())) / 3.0
     if image_mean <= 0.0 or total <= 0.0:
         return 0, 0.0
     x = (math.log2(FIREFLY_FACTOR * image_mean) - LOG2_LOWEST) * BINS_PER_OCTAVE

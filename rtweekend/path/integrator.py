@@ -58,9 +58,10 @@ def render_row(y, film, scene, params, s0, s1):
             # -- the path: radiance (lr, lg, lb) along the camera ray (o, d) --
             lr, lg, lb = 0.0, 0.0, 0.0      # radiance gathered so far
             tr, tg, tb = 1.0, 1.0, 1.0      # path throughput
+            er, eg, eb = 0.0, 0.0, 0.0      # emitted towards the camera ray (no firefly)
             from_obj = NO_HIT
             from_inside = False
-            for _ in range(params.max_depth):
+            for depth in range(params.max_depth):
                 k, t = closest_hit(scene, o, d, INF, from_obj, from_inside)
                 segments += 1
                 if k == NO_HIT:
@@ -78,6 +79,8 @@ def render_row(y, film, scene, params, s0, s1):
                     lr += tr * e[0]
                     lg += tg * e[1]
                     lb += tb * e[2]
+                    if depth == 0:
+                        er, eg, eb = e[0], e[1], e[2]
                 scatters, specular, d_out, att, state = materials.scatter(
                     scene, m, d, n, front_face, state)
                 if not scatters:
@@ -110,5 +113,5 @@ def render_row(y, film, scene, params, s0, s1):
                     tb *= att[2] * w
                 from_obj = k
                 o = p
-            films.add_sample(film, y, x, s, lr, lg, lb, params.clamp)
+            films.add_sample(film, y, x, s, lr, lg, lb, params.clamp, er, eg, eb)
     film.row_stats[y, SEGMENTS] += segments

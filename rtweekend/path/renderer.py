@@ -16,6 +16,8 @@ import numba
 import numpy as np
 
 from ..kernel.jit import collector_paused
+from .. import checks, memory
+from ..errors import FieldError, SceneError
 from ..kernel.rows import interleaved_rows
 from ..options import RenderOptions, thread_count
 from ..result import RenderResult, RenderStats
@@ -58,9 +60,11 @@ def freeze(scene, options):
     return Frame(arrays, params, interleaved_rows(camera.height))
 
 
-def render_samples(frame, film, s0, s1):
-    """Add samples s0 .. s1 - 1 of every pixel to `film`."""
-    render_pass(film, frame.scene, frame.params, frame.rows, s0, s1)
+def render_samples(frame, film, s0, s1, rows=None):
+    """Add samples s0 .. s1 - 1 of every pixel (of `rows` only: a slice of
+    frame.rows) to `film`.  A pixel's sums depend on its sample indices only,
+    so rows rendered in several parts give the bits of one whole pass."""
+    render_pass(film, frame.scene, frame.params, frame.rows if rows is None else rows, s0, s1)
 
 
 def block_film(frame, s0, s1):
@@ -81,14 +85,18 @@ class Renderer:
 
     def __init__(self, scene, options=None, **fields):
         if options is None:
-            options = RenderOptions("path", **fields)
+            options = RenderOptions.named("Renderer", "path", **fields)
         elif fields:
             raise TypeError("Renderer: give options or fields, not both")
         self.options = options
         self.frame = freeze(scene, options)
         self.width, self.height = self.frame.width, self.frame.height
+        # Before the film is allocated: beyond the memory, one line, nothing done.
+        memory.check(films.render_bytes(self.height, self.width), self.width, self.height)
         self.film = films.new_film(self.height, self.width)
-        self.spp = 0               # samples per pixel so far
+        self.spp = 0               # samples per pixel so far, in every pixel
+        self.band = 0              # a pass over part of the rows in progress: its spp
+        self.rows_done = 0         # ... and how many of frame.rows have them
         self.seconds = 0.0         # time spent in passes
         self.compile_seconds = 0.0
         self.threads = None        # Numba threads of the last pass here
@@ -104,6 +112,10 @@ class Renderer:
     def add_samples(self, n):
         """Render samples spp .. spp + n - 1 of every pixel here, with the options'
         threads (None: as many as Numba has); returns the seconds."""
+        n = self._count(n, "add_samples")
+        if self.band:
+            raise SceneError("add_samples: a pass over part of the rows is in progress "
+                             "(add_rows); finish it first")
         with thread_count(self.options.threads) as self.threads:
             t0 = _time.perf_counter()
             render_samples(self.frame, self.film, self.spp, self.spp + n)
@@ -111,6 +123,36 @@ class Renderer:
         self.spp += n
         self.seconds += dt
         return dt
+
+    def add_rows(self, n, count):
+        """Render samples spp .. spp + n - 1 of the next `count` rows (in
+        frame.rows order) of a pass over part of the rows; when every row has
+        them, spp becomes spp + n.  The bits are those of add_samples(n).
+        Returns the seconds."""
+        n = self._count(n, "add_rows")
+        if self.band and n != self.band:
+            raise SceneError(f"add_rows: n: the pass in progress adds {self.band} spp, got {n}")
+        try:
+            count = checks.integer(count, "count", lo=1, hi=self.height - self.rows_done)
+        except FieldError as e:
+            raise SceneError(f"add_rows: {e}") from None
+        rows = self.frame.rows[self.rows_done:self.rows_done + count]
+        with thread_count(self.options.threads) as self.threads:
+            t0 = _time.perf_counter()
+            render_samples(self.frame, self.film, self.spp, self.spp + n, rows)
+            dt = _time.perf_counter() - t0
+        self.band, self.rows_done = n, self.rows_done + count
+        if self.rows_done == self.height:
+            self.spp, self.band, self.rows_done = self.spp + n, 0, 0
+        self.seconds += dt
+        return dt
+
+    def _count(self, n, method):
+        """n samples per pixel more, checked like every number (checks.py)."""
+        try:
+            return checks.integer(n, "n", lo=1, hi=checks.MAX_SPP - self.spp)
+        except FieldError as e:
+            raise SceneError(f"{method}: {e}") from None
 
     def merge(self, film, spp):
         """Add a film of the samples from self.spp up to `spp`, rendered elsewhere."""
@@ -125,11 +167,13 @@ class Renderer:
         stats = RenderStats(
             width=self.width, height=self.height, spp=self.spp,
             spp_requested=spp_requested, seconds=self.seconds,
-            compile_seconds=self.compile_seconds, samples=self.width * self.height * self.spp,
+            compile_seconds=self.compile_seconds,
+            samples=self.width * (self.height * self.spp + self.rows_done * self.band),
             rays=int(row_stats[:, SEGMENTS].sum()), nan_dropped=int(row_stats[:, DROPPED].sum()),
             interrupted=interrupted,
             threads=threads or self.threads or numba.get_num_threads(),
             seed=self.frame.params.seed, fireflies=fireflies, firefly_energy=firefly_energy,
             clamp=None if math.isinf(clamp) else clamp,
-            stopped_by=stopped_by if interrupted else None)
+            stopped_by=stopped_by if interrupted else None,
+            partial_rows=self.rows_done, partial_spp=self.band)
         return RenderResult(image, stats, stderr)

@@ -5,9 +5,11 @@ Scratch's white lights and its camera.
     scene.add(sphere((0, -1, 3), 1, phong((255, 0, 0), specular=500, reflective=0.2)))
     scene.lights += [ambient(0.2), point(0.6, (2, 1, 0)), directional(0.2, (1, 4, 4))]
 """
+import math
 from dataclasses import dataclass
 
 from . import fields
+from .. import checks
 from ..errors import FieldError, SceneError
 
 
@@ -26,6 +28,9 @@ def _light(kind, intensity, field=None, vector=None):
             vector = fields.vec3(vector, field)
             if field == "direction" and not any(vector):
                 raise FieldError("direction", "must not be [0, 0, 0]")
+            if field == "direction" and math.hypot(*vector) < fields.SMALLEST:
+                raise FieldError("direction", f"{list(vector)} is too short: its length "
+                                 f"must be at least {fields.SMALLEST:g}")
     except FieldError as e:
         raise SceneError(f"{kind} light: {e}") from None
     return ClassicLight(kind, intensity, vector)
@@ -71,10 +76,10 @@ class ClassicCamera:
             vp = self.viewport
             if isinstance(vp, (str, bytes)) or not hasattr(vp, "__len__") or len(vp) != 2:
                 raise FieldError("viewport", "expected [width, height]")
-            set_(self, "viewport", tuple(fields.number(v, "viewport", lo=0.0, lo_open=True)
+            set_(self, "viewport", tuple(fields.length(v, "viewport")
                                          for v in vp))
-            set_(self, "d", fields.number(self.d, "d", lo=0.0, lo_open=True))
-            set_(self, "width", fields.integer(self.width, "width", hi=fields.MAX_SIZE))
-            set_(self, "height", fields.integer(self.height, "height", hi=fields.MAX_SIZE))
+            set_(self, "d", fields.length(self.d, "d"))
+            set_(self, "width", checks.option("width", self.width))
+            set_(self, "height", checks.option("height", self.height))
         except FieldError as e:
             raise SceneError(f"camera: {e}") from None

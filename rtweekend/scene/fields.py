@@ -1,59 +1,25 @@
 """Checks for one field of a scene object: each returns the clean value or
 raises FieldError naming the field.  Shared by the builder and the loader."""
-import math
-import numbers
-
+from .. import checks
+from ..checks import LARGEST, MAX_SIZE, SMALLEST, length  # noqa: F401  (the bounds, here too)
 from ..errors import FieldError
 
-
-# Intersection tests square coordinates and radii: beyond this they overflow.
-LARGEST = 1e100
+_show = checks.show
 
 
 def _real(value, field):
-    # bool is an int in Python; `radius = true` is a mistake, not 1.
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise FieldError(field, f"expected a number, got {_show(value)}")
-    try:
-        value = float(value)
-    except OverflowError:
-        raise FieldError(field, f"must be within +-{LARGEST:g}") from None
-    if not math.isfinite(value):
-        raise FieldError(field, f"must be finite, got {value}")
-    if abs(value) > LARGEST:
-        raise FieldError(field, f"must be within +-{LARGEST:g}, got {value:g}")
-    return value
-
-
-def _show(value):
-    text = repr(value)
-    return text if len(text) <= 40 else text[:37] + "..."
+    return checks.real(value, field)
 
 
 def number(value, field, *, lo=None, hi=None, lo_open=False, hi_open=False,
            nonzero=False):
-    """A finite float within [lo, hi] (or open ends)."""
-    x = _real(value, field)
-    if lo is not None and (x < lo or (lo_open and x == lo)):
-        raise FieldError(field, f"must be {'>' if lo_open else '>='} {lo:g}, got {x:g}")
-    if hi is not None and (x > hi or (hi_open and x == hi)):
-        raise FieldError(field, f"must be {'<' if hi_open else '<='} {hi:g}, got {x:g}")
-    if nonzero and x == 0.0:
-        raise FieldError(field, "must not be 0")
-    return x
+    """A finite float within [lo, hi] (or open ends) and within +-LARGEST."""
+    return checks.real(value, field, lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open,
+                       nonzero=nonzero)
 
 
 def integer(value, field, *, lo=1, hi=None):
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        if isinstance(value, float) and value.is_integer():
-            value = int(value)
-        else:
-            raise FieldError(field, f"expected an integer, got {_show(value)}")
-    if value < lo:
-        raise FieldError(field, f"must be >= {lo}, got {value}")
-    if hi is not None and value > hi:
-        raise FieldError(field, f"must be <= {hi}, got {value}")
-    return int(value)
+    return checks.integer(value, field, lo=lo, hi=hi)
 
 
 def vec3(value, field):
@@ -86,8 +52,6 @@ def text(value, field):
     return value
 
 
-# Pixels per side, a sanity bound (65536^2 would need ~200 GB of sums).
-MAX_SIZE = 65536
 SKY = "sky"
 
 

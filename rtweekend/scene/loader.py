@@ -11,6 +11,7 @@ from importlib import resources
 from pathlib import Path
 
 from . import fields
+from .. import checks
 from ..errors import FieldError, SceneError, label
 from .camera import Camera
 from .classic import LIGHTS, ClassicCamera
@@ -59,9 +60,13 @@ def resolve(name_or_path):
             raise SceneError(f"{path}: cannot read: {e}") from None
     entry = bundled_dir() / f"{name_or_path}.toml"
     if not entry.is_file():
-        known = ", ".join(bundled_scenes())
-        raise SceneError(f"unknown scene '{name_or_path}': not a file and not one of "
-                         f"the bundled scenes ({known})")
+        known = list(bundled_scenes())
+        if Path(f"{name_or_path}.toml").is_file():
+            hint = f" (did you mean the file '{name_or_path}.toml'?)"
+        else:
+            hint = did_you_mean(str(name_or_path), known)
+        raise SceneError(f"unknown scene '{name_or_path}'{hint}: not a file and not one of "
+                         f"the bundled scenes ({', '.join(known)})")
     return f"{name_or_path}.toml", entry.read_text(encoding="utf-8")
 
 
@@ -189,10 +194,10 @@ class _Loader:
         self.check_keys(table, RENDER_KEYS[1:] if classic else RENDER_KEYS, "render")
         try:
             if "spp" in table:
-                scene.spp = fields.integer(table["spp"], "spp")
+                scene.spp = checks.option("spp", table["spp"])
             if "max_depth" in table:
-                scene.max_depth = fields.integer(table["max_depth"], "max_depth",
-                                                 lo=0 if classic else 1)
+                scene.max_depth = checks.option("max_depth", table["max_depth"],
+                                                integrator="classic" if classic else "path")
             if "background" in table:
                 scene.background = table["background"]
                 if classic:

@@ -11,6 +11,7 @@ A Scene describes; each integrator freezes it into what its kernels read
 from dataclasses import dataclass, field, replace
 
 from . import fields
+from .. import checks
 from ..errors import FieldError, SceneError
 from .camera import Camera
 from .classic import ClassicCamera, ClassicLight
@@ -112,8 +113,9 @@ class Scene:
         """Validate the whole scene; raises SceneError."""
         classic = self.resolved_integrator() == "classic"
         try:
-            fields.integer(self.spp, "spp")
-            fields.integer(self.resolved_max_depth(), "max_depth", lo=0 if classic else 1)
+            checks.option("spp", self.spp)
+            checks.option("max_depth", self.resolved_max_depth(),
+                          integrator="classic" if classic else "path")
             if classic:
                 fields.color(self.resolved_background(), "background", hi=255.0)
             else:

@@ -70,7 +70,7 @@ class Shape:
 def sphere(center, radius, material, *, name=None):
     """A negative radius makes the book-1 hollow bubble (normals point inward)."""
     return Shape("sphere", (fields.vec3(center, "center"),
-                            fields.number(radius, "radius", nonzero=True)),
+                            fields.length(radius, "radius", signed=True)),
                  check_material(material), name=name)
 
 
@@ -79,6 +79,9 @@ def _interval(lo, hi, lo_name, hi_name):
     if not hi > lo:
         raise FieldError(hi_name, f"must be greater than {lo_name} ({lo:g}), got {hi:g}"
                          " (a rect needs a non-zero area)")
+    if hi - lo < fields.SMALLEST:
+        raise FieldError(hi_name, f"is only {hi - lo:g} from {lo_name}: sides below "
+                         f"{fields.SMALLEST:g} underflow when squared")
     return lo, hi
 
 
@@ -107,6 +110,9 @@ def box(p0, p1, material, *, name=None):
     for axis, a, b in zip("xyz", p0, p1):
         if a == b:
             raise FieldError("p1", f"{axis} equals p0's {axis} ({a:g}): the box has no volume")
+        if abs(a - b) < fields.SMALLEST:
+            raise FieldError("p1", f"{axis} is only {abs(a - b):g} from p0's {axis}: sides "
+                             f"below {fields.SMALLEST:g} underflow when squared")
     lo = tuple(min(a, b) for a, b in zip(p0, p1))
     hi = tuple(max(a, b) for a, b in zip(p0, p1))
     return Shape("box", (lo, hi), check_material(material), name=name)

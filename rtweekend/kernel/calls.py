@@ -1,0 +1,67 @@
+"""How the drivers call compiled code: in a worker thread, one call at a time,
+while the calling (main) thread waits awake to Ctrl-C.
+
+Python runs signal handlers in the main thread only, between bytecodes.  A
+kernel called from the main thread holds it until it returns, and Numba's
+compiler runs for seconds in the main thread too: Ctrl-C was answered only
+afterwards, and two Ctrl-C within one pass were delivered as one.  So the
+kernels (compiled with nogil: kernel/jit.py jit_parallel) and the compiler run
+in a worker thread, and the main thread waits for it in short sleeps, during
+which its handler runs at once (io/progress.py StopOnInterrupt).
+
+Why a thread and not a child process: the film stays in this process (no copy
+of hundreds of MB per pass), the compiled kernels are shared, and Numba's
+cache, thread pool and the API's return values work as before.  The price: a
+compile or a pass cannot be cancelled, only abandoned -- it goes on in its
+daemon thread, and its result is dropped.  Hence KERNELS: a new call waits for
+an abandoned one (Numba's thread pools are not made for two parallel kernels
+launched at once), and the command, which abandons a compile on Ctrl-C, leaves
+with os._exit, not through interpreter shutdown under a running compiler.
+"""
+import threading
+
+import numba
+
+KERNELS = threading.Lock()     # one compiled call (or compile) at a time
+POLL = 0.05                    # seconds between looks at Ctrl-C while waiting
+
+
+class Abandoned(Exception):
+    """The call was left running in the background (Ctrl-C during it)."""
+
+
+def call_awake(fn, stop=None, *, abandon=False):
+    """fn() in a worker thread with this thread's Numba thread count; returns
+    its value (or raises its exception).
+
+    stop: a StopOnInterrupt; its handler runs while this thread waits, so a
+    second Ctrl-C raises KeyboardInterrupt at once.  With abandon=True the
+    first Ctrl-C (stop.requested) raises Abandoned instead of waiting for fn.
+    """
+    threads = numba.get_num_threads()      # thread-local in Numba: pass it on
+    box = {}
+
+    def work():
+        with KERNELS:
+            if box.get("abandoned"):
+                return
+            try:
+                numba.set_num_threads(threads)
+                box["value"] = fn()
+            except BaseException as e:       # handed to the waiting thread
+                box["error"] = e
+
+    worker = threading.Thread(target=work, name="rtweekend-kernel", daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            if abandon and stop is not None and stop.requested:
+                box["abandoned"] = True
+                raise Abandoned
+            worker.join(POLL)
+    except BaseException:
+        box["abandoned"] = True
+        raise
+    if "error" in box:
+        raise box["error"]
+    return box.get("value")
