@@ -16,9 +16,31 @@ import numba
 from . import checks
 from .errors import FieldError, SceneError
 
-# Sampling strategies of the path tracer: each one's share of light sampling in
-# the mixture pdf at diffuse hits (path/pdf.py).
-SAMPLINGS = {"cosine": 0.0, "mixture": 0.5, "light": 1.0}
+
+
+@dataclass(frozen=True)
+class Sampling:
+    """A sampling strategy of the path tracer (path/integrator.py).
+
+    light_weight: the share of the lights list in the mixture pdf that draws the
+    next direction at a diffuse hit (path/pdf.py): 0 cosine, 0.5 the books' mixture.
+    next_event: also sample a point on one emitter at each diffuse hit and trace a
+    shadow ray to it, the two strategies weighted by the power heuristic (MIS);
+    the mixture then draws towards the lights list's objects that do not emit
+    (attractors such as a glass ball), and paths end by Russian roulette from
+    depth `roulette_depth` on (max_depth still caps them).
+    """
+    light_weight: float
+    next_event: bool = False
+    roulette_depth: int = 0      # 0: no Russian roulette
+
+
+SAMPLINGS = {
+    "cosine": Sampling(0.0),             # The Next Week
+    "mixture": Sampling(0.5),            # The Rest of Your Life
+    "light": Sampling(1.0),              # the lights list only
+    "nee": Sampling(0.5, next_event=True, roulette_depth=3),
+}
 DEFAULT_SAMPLING = "mixture"
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.
 PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh")
@@ -104,8 +126,8 @@ class RenderOptions:
         return cls(integrator, **fields)
 
     @property
-    def light_weight(self):
-        """The mixture's share of light sampling for this sampling strategy."""
+    def strategy(self):
+        """The Sampling of this render (path only)."""
         return SAMPLINGS[self.sampling or DEFAULT_SAMPLING]
 
     @property

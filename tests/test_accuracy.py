@@ -13,7 +13,7 @@ import pytest
 
 import rtweekend as rt
 
-STRATEGIES = ["cosine", "light", "mixture"]
+STRATEGIES = ["cosine", "light", "mixture", "nee"]
 
 
 def assert_expected(image, stderr, exact, what):

@@ -17,7 +17,7 @@ from test_accuracy import assert_expected, furnace
 # 1. Sphere-light pdf from inside or on the sphere (cornell_glass's glass ball
 #    is in `lights`): the books' sqrt(1 - r^2/d^2) is NaN for d < r.
 
-@pytest.mark.parametrize("sampling", ["light", "mixture"])
+@pytest.mark.parametrize("sampling", ["light", "mixture", "nee"])
 def test_shading_points_inside_a_sphere_light(sampling):
     # A lambertian ball inside a glass ball that is in `lights`: every shading
     # point is inside the light sphere.
@@ -38,7 +38,7 @@ def test_light_sphere_touching_the_floor():
 
 # 2. A mixture density of 0, and scattering below the surface.
 
-@pytest.mark.parametrize("sampling", ["light", "mixture"])
+@pytest.mark.parametrize("sampling", ["light", "mixture", "nee"])
 def test_light_behind_the_surface_contributes_nothing(sampling):
     # The light is under the floor: every light sample goes below the surface.
     floor = rt.xz_rect(-5, 5, -5, 5, 0, rt.lambertian((0.5,) * 3))

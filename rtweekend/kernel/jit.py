@@ -108,6 +108,16 @@ def jit_row(fn):
                 **_OPTIONS)(fn)
 
 
+def jit_apart(fn):
+    """A per-bounce helper that takes NamedTuples, compiled once on its own
+    (reference counting off, as jit_row) and called, not inlined: for code whose
+    inlined copy would carry another copy of the dispatch on every primitive kind
+    (seconds of compile) and which runs rarely enough for a call to cost nothing
+    measurable (path/nee.py)."""
+    return njit(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True,
+                **_OPTIONS)(fn)
+
+
 def jit_parallel(fn):
     """A kernel with a `prange` loop over rows (path/kernel.py, classic/kernel.py).
 

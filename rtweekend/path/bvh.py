@@ -150,7 +150,7 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside):
     described above.
     """
     bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
-    best = NO_HIT
+    best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrator.py)
     # One loop for both cases, so shapes.distance is inlined at one call site
     # only (each inlined copy costs compile time): no BVH is a single leaf node.
     no_bvh = bvh_node.shape[0] == 0

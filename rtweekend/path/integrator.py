@@ -7,12 +7,20 @@ a diffuse one the next direction is drawn from the mixture
 and the throughput is multiplied by attenuation * scattering_pdf / p.  The
 books use light_weight 0.5; 0 is The Next Week's cosine sampling, 1 samples
 lights only.  max_depth counts ray segments, as the books' depth does.
+
+With next-event estimation (params.next_event, nee.py) each diffuse hit also
+aims a shadow ray at one emitter, traced by the same nearest-hit call before
+the path goes on, and an emitter the path hits after a diffuse bounce counts
+with its MIS weight; paths end by Russian roulette from params.roulette_depth.
+Shadow rays count as rays in the statistics, not as path segments of max_depth.
 """
+import numpy as np
+
 from ..kernel import rng
 from ..kernel.jit import jit, jit_inline, jit_row
 from ..kernel.vec3 import dot, madd
 from . import film as films
-from . import materials, pdf, shapes
+from . import materials, nee, pdf, shapes
 from .bvh import INF, closest_hit
 from .camera import get_ray
 from .film import SEGMENTS
@@ -49,6 +57,8 @@ def render_row(y, film, scene, params, s0, s1):
     call site."""
     segments = 0
     use_lights = scene.lights.shape[0] > 0 and params.light_weight > 0.0
+    next_event = params.next_event
+    roulette = params.roulette_depth
     width = params.width
     for x in range(width):
         pixel = y * width + x
@@ -59,11 +69,39 @@ def render_row(y, film, scene, params, s0, s1):
             lr, lg, lb = 0.0, 0.0, 0.0      # radiance gathered so far
             tr, tg, tb = 1.0, 1.0, 1.0      # path throughput
             er, eg, eb = 0.0, 0.0, 0.0      # emitted towards the camera ray (no firefly)
-            from_obj = NO_HIT
-            from_inside = False
-            for depth in range(params.max_depth):
-                k, t = closest_hit(scene, o, d, INF, from_obj, from_inside)
+            # np.int64 / np.bool_: typed as plain int64 and bool from the start,
+            # not as the literals -1 and False, or Numba compiles the helpers
+            # called apart (nee.py) once more for those literal types.
+            from_obj = np.int64(NO_HIT)
+            from_inside = np.bool_(False)
+            # Density with which the continuation drew d at a diffuse hit (for
+            # MIS against next-event estimation); 0: the camera ray or a
+            # specular bounce, which next events could not have found.
+            continuation = 0.0
+            # A shadow ray to trace before the path goes on (nee.py): aimed at
+            # emitter `target` (NO_HIT: none) from shadow_o along shadow_d up
+            # to shadow_t, carrying (sr, sg, sb) if nothing else is met before.
+            target = np.int64(NO_HIT)
+            shadow_o, shadow_d, shadow_inside, shadow_t = o, d, False, INF
+            sr, sg, sb = 0.0, 0.0, 0.0
+            alive = params.max_depth > 0    # False: the path ended (a shadow ray may remain)
+            depth = 0
+            while target != NO_HIT or alive:
+                # The one nearest-hit call: a shadow ray first, else the path's ray.
+                shadow = target != NO_HIT
+                if shadow:
+                    ro, rd, r_inside, r_max = shadow_o, shadow_d, shadow_inside, shadow_t
+                else:
+                    ro, rd, r_inside, r_max = o, d, from_inside, INF
+                k, t = closest_hit(scene, ro, rd, r_max, from_obj, r_inside)
                 segments += 1
+                if shadow:
+                    if k == NO_HIT or k == target:     # nothing before the emitter
+                        lr += sr
+                        lg += sg
+                        lb += sb
+                    target = NO_HIT
+                    continue
                 if k == NO_HIT:
                     e = background(scene, d)
                     lr += tr * e[0]
@@ -76,15 +114,24 @@ def render_row(y, film, scene, params, s0, s1):
                 m = scene.obj_i[k, OBJ_MAT]
                 emits, e = materials.emitted(scene, m, front_face)
                 if emits:
-                    lr += tr * e[0]
-                    lg += tg * e[1]
-                    lb += tb * e[2]
+                    w = 1.0
+                    if next_event and continuation > 0.0:
+                        w = nee.power_heuristic(continuation, nee.emitter_pdf(
+                            scene, k, o, d, from_obj, from_inside))
+                    lr += tr * e[0] * w
+                    lg += tg * e[1] * w
+                    lb += tb * e[2] * w
                     if depth == 0:
                         er, eg, eb = e[0], e[1], e[2]
                 scatters, specular, d_out, att, state = materials.scatter(
                     scene, m, d, n, front_face, state)
                 if not scatters:
                     break
+                if not specular and next_event:
+                    target, shadow_d, shadow_inside, shadow_t, c, state = nee.shadow_ray(
+                        scene, k, p, n, n_out, params.light_weight, state)
+                    shadow_o = p
+                    sr, sg, sb = tr * att[0] * c[0], tg * att[1] * c[1], tb * att[2] * c[2]
                 if specular:
                     d = d_out
                 elif use_lights:
@@ -92,26 +139,42 @@ def render_row(y, film, scene, params, s0, s1):
                 else:
                     d, state = pdf.cosine_generate(n, state)
                 from_inside = shapes.enters(scene, k, n_out, d)
-                if specular or not use_lights:
+                from_obj = k
+                o = p
+                continuation = 0.0
+                depth += 1
+                alive = depth < params.max_depth
+                if specular or not (use_lights or next_event):
                     # Followed with weight = attenuation (for cosine sampling
                     # alone, scattering_pdf / pdf == 1).
                     tr *= att[0]
                     tg *= att[1]
                     tb *= att[2]
                 else:
-                    # Importance-sampling the mixture pdf.
-                    density = pdf.mixture_value(scene, p, n, params.light_weight, d, k,
-                                                from_inside)
+                    # Importance-sampling the mixture pdf (or cosine's, whose
+                    # density next-event MIS needs).
+                    density = nee.continuation_pdf(scene, p, n, params.light_weight, d, k,
+                                                   from_inside)
                     scattering = pdf.cosine_value(n, d)
                     # A direction below the surface, or one no component can
                     # make, carries no light: stop instead of dividing by zero.
                     if scattering <= 0.0 or density <= 0.0:
-                        break
-                    w = scattering / density
-                    tr *= att[0] * w
-                    tg *= att[1] * w
-                    tb *= att[2] * w
-                from_obj = k
-                o = p
+                        alive = False
+                    else:
+                        w = scattering / density
+                        tr *= att[0] * w
+                        tg *= att[1] * w
+                        tb *= att[2] * w
+                        continuation = density
+                if alive and roulette and depth >= roulette:
+                    # Russian roulette: go on with probability q, the throughput
+                    # divided by q (unbiased); dim paths end early.
+                    q = min(1.0, max(tr, tg, tb))
+                    u, state = rng.uniform(state)
+                    if u >= q:
+                        alive = False
+                    tr /= q
+                    tg /= q
+                    tb /= q
             films.add_sample(film, y, x, s, lr, lg, lb, params.clamp, er, eg, eb)
     film.row_stats[y, SEGMENTS] += segments

@@ -66,6 +66,7 @@ class SceneArrays(NamedTuple):
     mat_i: np.ndarray      # int64 [M]: kind
     mat_f: np.ndarray      # float64 [M, MAT_FLOATS]: colour, parameter
     lights: np.ndarray     # int64 [L]: object indices the light pdf samples
+    emitters: np.ndarray   # int64 [E]: objects whose material emits (next-event targets)
     bg_kind: int           # BG_COLOR or BG_SKY
     bg: np.ndarray         # float64 [3]: the background's radiance (BG_COLOR)
     bvh_box: np.ndarray    # the hierarchy (bvh.py); empty for small scenes
@@ -81,4 +82,6 @@ class PathParams(NamedTuple):
     seed: int
     max_depth: int         # ray segments per path
     light_weight: float    # the mixture's share of light sampling (pdf.py)
+    next_event: bool       # shadow rays to emitters, MIS (integrator.py)
+    roulette_depth: int    # Russian roulette from this segment on; 0: none
     clamp: float           # cap on each sample's channels; inf: none

@@ -8,8 +8,9 @@ import numpy as np
 from ..errors import SceneError
 from ..scene.fields import SKY
 from . import bvh as hierarchy
-from .layout import (BG_COLOR, BG_SKY, BOX, MAT_FLOATS, MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS,
-                     PRIMITIVE_KINDS, RECT, SPHERE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays)
+from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, MAT_FLOATS, MATERIAL_TAGS,
+                     OBJ_FLOATS, OBJ_INTS, OBJ_MAT, PRIMITIVE_KINDS, RECT, SPHERE, XY_RECT,
+                     XZ_RECT, YZ_RECT, SceneArrays)
 from .shapes import axis_rect, box, rect, sphere
 
 
@@ -79,5 +80,6 @@ def pack_scene(scene, bvh=None):
     if bvh is None:
         bvh = len(obj_i) >= hierarchy.BVH_MIN_OBJECTS
     tree = hierarchy.build_bvh(obj_i, obj_f) if bvh else hierarchy.empty_bvh(len(obj_i))
-    return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights,
+    emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
+    return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights, emitters,
                        bg_kind, bg, *tree)

@@ -51,11 +51,19 @@ def freeze(scene, options):
     if changes:
         scene = scene.with_camera(**changes)
     arrays = pack_scene(scene, bvh=options.bvh)
+    strategy = options.strategy
+    next_event = strategy.next_event and len(arrays.emitters) > 0
+    if next_event:
+        # Emitters are reached by shadow rays: the mixture draws towards the
+        # lights list's other objects only (attractors, e.g. a glass ball).
+        arrays = arrays._replace(lights=np.setdiff1d(arrays.lights, arrays.emitters))
     camera = scene.resolved_camera()
     max_depth = scene.resolved_max_depth() if options.max_depth is None else options.max_depth
     params = PathParams(cam=pack_camera(camera), width=camera.width, height=camera.height,
                         seed=options.seed, max_depth=max_depth,
-                        light_weight=options.light_weight if len(arrays.lights) else 0.0,
+                        light_weight=strategy.light_weight if len(arrays.lights) else 0.0,
+                        next_event=next_event,
+                        roulette_depth=strategy.roulette_depth if next_event else 0,
                         clamp=options.clamp_value)
     return Frame(arrays, params, interleaved_rows(camera.height))
 

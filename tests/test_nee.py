@@ -1,0 +1,109 @@
+"""Next-event estimation with MIS (path/nee.py): the weights of one direction sum
+to one, shadow rays are blocked by what is in between, and the estimator is
+deterministic.  (Its closed-form radiance values are in test_accuracy.py and its
+failure modes in test_stability.py, with every other strategy.)"""
+import math
+
+import numpy as np
+import pytest
+from numba import njit
+
+import rtweekend as rt
+from rtweekend.kernel import rng
+from rtweekend.options import RenderOptions
+from rtweekend.path import nee
+from rtweekend.path.layout import NO_HIT, OBJ_MAT, XZ_RECT
+from rtweekend.path.renderer import freeze
+from rtweekend.path.shapes import axis_rect
+
+
+@njit
+def _weights(scene, k, points, n, light_weight, seed):
+    """For shadow rays from each point on object k (normal n): the MIS weight the
+    shadow ray carries (from its returned value) and the one the integrator would
+    give the continuation reaching the same emitter along the same direction."""
+    out = np.full((points.shape[0], 2), np.nan)
+    state = rng.seed_state(0, 0, seed)
+    for i in range(points.shape[0]):
+        p = (points[i, 0], points[i, 1], points[i, 2])
+        e, w, inside, t, c, state = nee.shadow_ray(scene, k, p, n, n, light_weight, state)
+        if e == NO_HIT:
+            continue
+        cosine = n[0] * w[0] + n[1] * w[1] + n[2] * w[2]
+        p_e = nee.emitter_pdf(scene, e, p, w, k, inside)
+        radiance = scene.mat_f[scene.obj_i[e, OBJ_MAT], 0]
+        out[i, 0] = c[0] / (radiance * cosine / math.pi / p_e)
+        p_c = nee.continuation_pdf(scene, p, n, light_weight, w, k, inside)
+        out[i, 1] = nee.power_heuristic(p_c, nee.emitter_pdf(scene, e, p, w, k, inside))
+    return out
+
+
+@pytest.mark.parametrize("name", ["cornell_box", "cornell_glass"])
+def test_mis_weights_of_one_direction_sum_to_one(name):
+    frame = freeze(rt.load_scene(name), RenderOptions("path", sampling="nee"))
+    scene, params = frame.scene, frame.params
+    assert params.next_event and len(scene.emitters) == 1
+    # The light is no target of the mixture any more; cornell_glass keeps its ball.
+    assert len(scene.lights) == (1 if name == "cornell_glass" else 0)
+    assert params.light_weight == (0.5 if name == "cornell_glass" else 0.0)
+    floor = [k for k in range(len(scene.obj_i)) if scene.obj_i[k, 0] == XZ_RECT
+             and scene.obj_f[k, axis_rect.K] == 0.0][0]      # the xz rect at y = 0
+    rng_ = np.random.default_rng(3)
+    points = np.column_stack([rng_.uniform(20, 530, 400), np.zeros(400),
+                              rng_.uniform(20, 530, 400)])
+    w = _weights(scene, floor, points, (0.0, 1.0, 0.0), params.light_weight, 11)
+    aimed = ~np.isnan(w[:, 0])
+    assert aimed.sum() > 300                  # most floor points see the light
+    assert np.all((w[aimed] > 0.0) & (w[aimed] < 1.0))
+    np.testing.assert_allclose(w[aimed].sum(axis=1), 1.0, rtol=0, atol=1e-12)
+
+
+def test_power_heuristic():
+    a, b = np.meshgrid(np.geomspace(1e-6, 1e6, 25), np.geomspace(1e-6, 1e6, 25))
+    wa = np.vectorize(nee.power_heuristic)(a, b)
+    wb = np.vectorize(nee.power_heuristic)(b, a)
+    np.testing.assert_allclose(wa + wb, 1.0, rtol=0, atol=1e-15)
+    assert nee.power_heuristic(3.0, 1.0) == 0.9
+
+
+def _blocked_scene(blocker):
+    """A floor lit by a light above it, with a black plate between them or not;
+    the camera looks at the floor from under the plate."""
+    scene = rt.Scene(camera=rt.Camera(lookfrom=(0, 0.5, -3), lookat=(0, 0, 0), vfov=8,
+                                      width=8, height=8), max_depth=3)
+    scene.add(rt.xz_rect(-5, 5, -5, 5, 0, rt.lambertian((0.5, 0.5, 0.5))))
+    scene.add(rt.xz_rect(-1, 1, -1, 1, 2, rt.diffuse_light((4, 4, 4))).flip_face(),
+              light=True)
+    if blocker:
+        scene.add(rt.xz_rect(-4, 4, -4, 4, 1, rt.lambertian((0, 0, 0))))
+    return scene
+
+
+def test_shadow_rays_stop_at_what_is_in_between():
+    lit = rt.render(_blocked_scene(False), spp=16, sampling="nee", seed=1)
+    dark = rt.render(_blocked_scene(True), spp=16, sampling="nee", seed=1)
+    assert lit.image.min() > 0.0
+    # The plate hides the light from every floor point the camera sees, and
+    # reflects nothing: not one shadow ray, nor any path, gets light through.
+    assert np.array_equal(dark.image, np.zeros_like(dark.image))
+
+
+def test_next_event_renders_are_the_same_for_any_thread_count_and_pass_split():
+    scene = rt.load_scene("cornell_glass")
+    a = rt.render(scene, spp=4, seed=3, width=32, height=24, sampling="nee", threads=1)
+    b = rt.render(scene, spp=4, seed=3, width=32, height=24, sampling="nee", threads=2)
+    r = rt.Renderer(scene, seed=3, width=32, height=24, sampling="nee")
+    for n in (1, 2, 1):
+        r.add_samples(n)
+    c = r.result()
+    assert np.array_equal(a.image, b.image) and np.array_equal(a.image, c.image)
+    assert a.stats.rays == b.stats.rays == c.stats.rays
+
+
+def test_the_books_mixture_traces_no_shadow_rays():
+    scene = rt.load_scene("cornell_box")
+    books = rt.render(scene, spp=2, seed=1, width=24, height=24, sampling="mixture")
+    nee_ = rt.render(scene, spp=2, seed=1, width=24, height=24, sampling="nee")
+    # Russian roulette ends nee's paths early, shadow rays add rays: they differ.
+    assert books.stats.rays != nee_.stats.rays
+    assert not np.array_equal(books.image, nee_.image)
