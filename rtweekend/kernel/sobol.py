@@ -16,24 +16,30 @@ loop over 32 direction numbers.  "(0,2)-sequence" means: every aligned block of
 elementary interval [a/2^i, (a+1)/2^i) x [b/2^(k-i), (b+1)/2^(k-i)), for every i.
 
 Owen scrambling.  A nested uniform scramble flips bit j (counting from the most
-significant) of a coordinate by a random function of the bits above it.  It
-maps every elementary interval onto one of the same shape, so the net property
-survives exactly, while the points become uniformly random (each one alone) and
-the error of smooth integrands falls like N^-1.5 instead of N^-0.5.  Burley's
-hash form: reverse the bits, apply a hash in which every output bit depends only
-on the same and lower input bits (adding a seed, multiplying by a constant, x ^=
-x * even: carries only travel up), reverse back.  The hash is Vegdahl's
-improved Laine-Karras permutation (pbrt-v4's FastOwenScrambler).
+significant) of a coordinate by a random function of the bits above it.  It maps
+every elementary interval onto one of the same shape, so the net property
+survives exactly, while each point alone becomes uniformly random and the RMS
+error falls like N^-1.5 (up to log factors) on smooth integrands, like N^-0.75
+on integrands with edges, instead of N^-0.5.  Burley's hash form: reverse the
+bits, apply a hash in which every output bit depends only on the same and lower
+input bits (adding a seed, multiplying by a constant, x ^= x * even: carries only
+travel up), reverse back.  The hash is Vegdahl's improved Laine-Karras
+permutation (pbrt-v4's FastOwenScrambler).
 
 Shuffling and padding.  The index itself is Owen-scrambled too (seeded
 separately): bits above k of an index below 2^k are zero, so they map to the
 same constant m, and the low k bits are permuted: the first 2^k samples of a
 pixel are all of one aligned block of the sequence, a (0,2)-net, in a random
 order.  Each dimension pair `dim` gets its own index shuffle and its own
-coordinate scrambles, seeded by a hash of (pixel, dim, seed): the pairs are
+coordinate scrambles, seeded by a hash of (pixel, dim, seed): pairs are
 decorrelated from each other (no Sobol dimension beyond the second is used, so
-the higher-dimensional projections are those of random padding, as in Burley's
-and Cycles' samplers) and every pixel is an independent randomisation.
+projections across pairs are those of random padding, as in Burley's padded
+construction and pbrt-v4's PaddedSobolSampler) and every pixel is an
+independent randomisation.  A nested shuffle is not a uniformly random
+permutation (it reorders samples in pairs, then pairs of pairs, ...), so two
+pairs' coordinates correlate a little within a pixel: (N - 1) E[r^2] is about
+1.6, against 1 for a random matching; without the shuffle it would grow like
+N / 2.
 `sample_1d` uses the van der Corput dimension alone, with seeds of its own
 (dimension `dim` of sample_1d and of sample_2d are unrelated).
 
