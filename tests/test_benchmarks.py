@@ -55,6 +55,18 @@ def test_dask_overhead_benchmark_quick(tmp_path):
     assert idle["slowdown"] == pytest.approx(1 - idle["idle_cluster"] / idle["alone"])
 
 
+def test_sobol_benchmark_quick(tmp_path):
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "sobol.py"), "--quick",
+                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    data = json.loads((tmp_path / "sobol.json").read_text())
+    assert set(data["cost"]) == {"sobol.sample_2d", "sobol.sample_1d", "rng.uniform pair",
+                                 "rng.seed_state + uniform pair"}
+    assert all(row["ns_per_sample"] > 0 for row in data["cost"].values())
+    assert data["slopes"]["smooth exp(uv), sobol"]["slope"] < -1.0
+    assert data["slopes"]["smooth exp(uv), rng"]["slope"] > -0.7
+
+
 def test_precision_benchmark_quick(tmp_path):
     r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "precision.py"), "--quick",
                         "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)
