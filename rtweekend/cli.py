@@ -79,7 +79,8 @@ def build_parser():
                    "(default: all cores)")
     r.add_argument("--sampling", choices=tuple(SAMPLINGS),
                    help="diffuse sampling: the books' 0.5/0.5 mixture (default), cosine "
-                   "only, or lights only")
+                   "only, lights only, or nee: next-event estimation (shadow rays, MIS) "
+                   "with Russian roulette")
     r.add_argument("--clamp", type=_option("clamp", float), metavar="X", help="cap every sample's "
                    "channels at X: fewer fireflies, but BIASED (darker); off by default")
     cluster = r.add_mutually_exclusive_group()
