@@ -41,8 +41,12 @@ def _weights(scene, k, points, n, light_weight, seed):
 @pytest.mark.parametrize("name", ["cornell_box", "cornell_glass"])
 def test_mis_weights_of_one_direction_sum_to_one(name):
     frame = freeze(rt.load_scene(name), RenderOptions("path", sampling="nee"))
+    books = freeze(rt.load_scene(name), RenderOptions("path", sampling="mixture"))
+    # The books' lights list keeps the light; nee's keeps only what does not emit.
+    assert books.events is None
+    assert list(books.scene.lights) == sorted([*frame.scene.lights, *frame.scene.emitters])
     scene, params = frame.scene, frame.params
-    assert params.next_event and len(scene.emitters) == 1
+    assert frame.events == 3 and len(scene.emitters) == 1
     # The light is no target of the mixture any more; cornell_glass keeps its ball.
     assert len(scene.lights) == (1 if name == "cornell_glass" else 0)
     assert params.light_weight == (0.5 if name == "cornell_glass" else 0.0)

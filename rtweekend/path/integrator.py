@@ -8,10 +8,10 @@ and the throughput is multiplied by attenuation * scattering_pdf / p.  The
 books use light_weight 0.5; 0 is The Next Week's cosine sampling, 1 samples
 lights only.  max_depth counts ray segments, as the books' depth does.
 
-With next-event estimation (params.next_event, nee.py) each diffuse hit also
+With next-event estimation (`events`, nee.py) each diffuse hit also
 aims a shadow ray at one emitter, traced by the same nearest-hit call before
 the path goes on, and an emitter the path hits after a diffuse bounce counts
-with its MIS weight; paths end by Russian roulette from params.roulette_depth.
+with its MIS weight; paths end by Russian roulette from segment `events` on.
 Shadow rays count as rays in the statistics, not as path segments of max_depth.
 """
 import numpy as np
@@ -46,8 +46,13 @@ def face_normal(d, n_out):
 
 
 @jit_row
-def render_row(y, film, scene, params, s0, s1):
+def render_row(y, film, scene, params, s0, s1, events):
     """Trace samples s0..s1-1 of every pixel of row y into the film.
+
+    events: None for the books' estimators; for next-event estimation, the
+    segment from which Russian roulette may end a path (0: never).  Every use is
+    an `events is not None` test on the argument itself, which Numba prunes when
+    compiling for None: the books' kernel has none of it, in code or in time.
 
     One function per row, called from the prange kernel (kernel.py), so that
     the camera, hit and pdf helpers can be inlined into it (inlined into the
@@ -57,8 +62,6 @@ def render_row(y, film, scene, params, s0, s1):
     call site."""
     segments = 0
     use_lights = scene.lights.shape[0] > 0 and params.light_weight > 0.0
-    next_event = params.next_event
-    roulette = params.roulette_depth
     width = params.width
     for x in range(width):
         pixel = y * width + x
@@ -115,9 +118,10 @@ def render_row(y, film, scene, params, s0, s1):
                 emits, e = materials.emitted(scene, m, front_face)
                 if emits:
                     w = 1.0
-                    if next_event and continuation > 0.0:
-                        w = nee.power_heuristic(continuation, nee.emitter_pdf(
-                            scene, k, o, d, from_obj, from_inside))
+                    if events is not None:
+                        if continuation > 0.0:
+                            w = nee.power_heuristic(continuation, nee.emitter_pdf(
+                                scene, k, o, d, from_obj, from_inside))
                     lr += tr * e[0] * w
                     lg += tg * e[1] * w
                     lb += tb * e[2] * w
@@ -127,11 +131,13 @@ def render_row(y, film, scene, params, s0, s1):
                     scene, m, d, n, front_face, state)
                 if not scatters:
                     break
-                if not specular and next_event:
-                    target, shadow_d, shadow_inside, shadow_t, c, state = nee.shadow_ray(
-                        scene, k, p, n, n_out, params.light_weight, state)
-                    shadow_o = p
-                    sr, sg, sb = tr * att[0] * c[0], tg * att[1] * c[1], tb * att[2] * c[2]
+                if events is not None:
+                    if not specular:
+                        target, shadow_d, shadow_inside, shadow_t, c, state = nee.shadow_ray(
+                            scene, k, p, n, n_out, params.light_weight, state)
+                        shadow_o = p
+                        sr, sg, sb = (tr * att[0] * c[0], tg * att[1] * c[1],
+                                      tb * att[2] * c[2])
                 if specular:
                     d = d_out
                 elif use_lights:
@@ -144,7 +150,7 @@ def render_row(y, film, scene, params, s0, s1):
                 continuation = 0.0
                 depth += 1
                 alive = depth < params.max_depth
-                if specular or not (use_lights or next_event):
+                if specular or not (use_lights or events is not None):
                     # Followed with weight = attenuation (for cosine sampling
                     # alone, scattering_pdf / pdf == 1).
                     tr *= att[0]
@@ -166,7 +172,11 @@ def render_row(y, film, scene, params, s0, s1):
                         tg *= att[1] * w
                         tb *= att[2] * w
                         continuation = density
-                if alive and roulette and depth >= roulette:
+                if events is not None:
+                    roulette = alive and events > 0 and depth >= events
+                else:
+                    roulette = False
+                if roulette:
                     # Russian roulette: go on with probability q, the throughput
                     # divided by q (unbiased); dim paths end early.
                     q = min(1.0, max(tr, tg, tb))

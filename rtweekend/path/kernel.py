@@ -6,10 +6,11 @@ from .integrator import render_row
 
 
 @jit_parallel
-def render_pass(film, scene, params, rows, s0, s1):
+def render_pass(film, scene, params, rows, s0, s1, events):
     """Add samples s0..s1-1 of every pixel to the film; rows[k] spreads the
     work over threads (kernel/rows.py).  Each row is written by one thread
     only, and every sum is in sample order, so the film is the same whatever
-    the thread count."""
+    the thread count.  events: next-event estimation's (integrator.py); None
+    compiles a kernel without it."""
     for k in numba.prange(rows.shape[0]):
-        render_row(rows[k], film, scene, params, s0, s1)
+        render_row(rows[k], film, scene, params, s0, s1, events)

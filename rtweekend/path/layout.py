@@ -82,6 +82,4 @@ class PathParams(NamedTuple):
     seed: int
     max_depth: int         # ray segments per path
     light_weight: float    # the mixture's share of light sampling (pdf.py)
-    next_event: bool       # shadow rays to emitters, MIS (integrator.py)
-    roulette_depth: int    # Russian roulette from this segment on; 0: none
     clamp: float           # cap on each sample's channels; inf: none

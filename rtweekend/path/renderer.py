@@ -34,6 +34,11 @@ class Frame(NamedTuple):
     scene: SceneArrays
     params: PathParams
     rows: np.ndarray        # the order rows go to threads
+    # Next-event estimation (integrator.py): None for the books' estimators, else
+    # the segment from which Russian roulette may end paths (0: never).  Passed
+    # to the kernel as an argument of its own, so that the books' kernel is
+    # compiled without any of it (Numba prunes `is None` branches on arguments).
+    events: int | None = None
 
     @property
     def width(self):
@@ -62,17 +67,17 @@ def freeze(scene, options):
     params = PathParams(cam=pack_camera(camera), width=camera.width, height=camera.height,
                         seed=options.seed, max_depth=max_depth,
                         light_weight=strategy.light_weight if len(arrays.lights) else 0.0,
-                        next_event=next_event,
-                        roulette_depth=strategy.roulette_depth if next_event else 0,
                         clamp=options.clamp_value)
-    return Frame(arrays, params, interleaved_rows(camera.height))
+    return Frame(arrays, params, interleaved_rows(camera.height),
+                 strategy.roulette_depth if next_event else None)
 
 
 def render_samples(frame, film, s0, s1, rows=None):
     """Add samples s0 .. s1 - 1 of every pixel (of `rows` only: a slice of
     frame.rows) to `film`.  A pixel's sums depend on its sample indices only,
     so rows rendered in several parts give the bits of one whole pass."""
-    render_pass(film, frame.scene, frame.params, frame.rows if rows is None else rows, s0, s1)
+    render_pass(film, frame.scene, frame.params, frame.rows if rows is None else rows, s0, s1,
+                frame.events)
 
 
 def block_film(frame, s0, s1):
