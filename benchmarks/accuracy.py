@@ -82,11 +82,11 @@ def measure(scene, cfg, sampling, ref, threads, cover=0.0):
     """One progressive render, measured at 1, 2, 4, ... max_spp spp, and further
     (up to COVER_FACTOR x max_spp) until its time reaches `cover` seconds."""
     warm = rt.Renderer(scene, seed=0, width=16, height=16, sampling=sampling, threads=threads)
-    warm.compile()
+    compile_seconds = warm.compile()         # compile, or load from Numba's cache
     warm.add_samples(1)                      # warm-up: caches, threads, page faults
     r = rt.Renderer(scene, seed=SEED, width=cfg["width"], height=cfg["height"],
                     sampling=sampling, threads=threads)
-    compile_seconds = r.compile()
+    r.compile()
     rows, target = [], 1
     while target <= cfg["max_spp"] or (r.seconds < cover
                                        and target <= COVER_FACTOR * cfg["max_spp"]):
@@ -352,6 +352,7 @@ def main(argv=None):
         crop_images[name] = (ref, crops(scene, cfg, args.threads), cfg["crop_seconds"],
                              peer_crop(peer_images, cfg["crop_seconds"]) if peer_images else [])
     data["total_seconds"] = time.perf_counter() - start
+    data["machine"] = machine()              # now that Numba's threading layer is known
     args.out.mkdir(parents=True, exist_ok=True)
     save_json("accuracy.json", data, args.out)
     if data["scenes"]:
