@@ -1,87 +1,195 @@
-"""Error against time for each sampling strategy: the speed/accuracy chart.
+"""Error against time for every sampling strategy and for Mitsuba 3: the speed/accuracy chart.
 
-    pip install '.[bench]' && python benchmarks/accuracy.py
+    pip install '.[bench,peer]' && python benchmarks/accuracy.py
+    python benchmarks/accuracy.py --peer-python /path/to/mitsuba-venv/bin/python
 
-For cornell_box (against Mitsuba 3's 8192-spp reference) and cornell_glass
-(against a long render of its own, labelled as such), render with cosine
-sampling (The Next Week), light sampling only, and the 0.5/0.5 mixture (The Rest
-of Your Life): one progressive render per strategy, measured after every
-doubling of spp.  Records wall time (compile and a warm-up pass excluded), spp,
-RMSE and relative MSE against the reference, and the fraction of NaN/Inf
-samples; fits the slope of log RMSE against log seconds (ideal: -1/2).
+For cornell_box (300x300) and cornell_glass (150x150), against independent
+references rendered by Mitsuba 3 (../shared/references beside the repository,
+or the folder RTWEEKEND_REFERENCES names; a scene whose reference is absent is
+skipped, in one line): one progressive render per strategy of
+rtweekend.options.SAMPLINGS, measured after every doubling of spp, and the peer,
+Mitsuba 3 (benchmarks/mitsuba_peer.py: its `path` integrator, next-event
+estimation with MIS) rendering the same scene on the same machine with the same
+number of threads: separate renders at 1, 2, 4, ... spp, each timed from scratch.
+Mitsuba runs here if it imports, or in another interpreter (--peer-python, e.g.
+its own venv); without it the chart shows rtweekend alone.
+
+Records for every point the wall time (compile and a warm-up excluded, reported
+apart), spp, RMSE and relative MSE of linear radiance against the reference, and
+the fraction of NaN/Inf samples (Mitsuba: of pixel values); fits the slope of log
+RMSE against log seconds (ideal: -1/2); and an equal-time table: each strategy's
+RMSE interpolated (log-log) at Mitsuba's times, and its ratio to Mitsuba's RMSE.
 
 Writes results/accuracy.json, results/accuracy.png (log-log error vs seconds,
-one line per strategy) and results/accuracy_crops.png (equal-time crops).
---quick runs a tiny version (seconds) to check that the script works.
+one line per strategy and Mitsuba) and results/accuracy_crops.png (equal-time
+crops).  --quick runs a tiny version (seconds) to check that the script works.
 """
+import itertools
+import json
 import math
+import os
+import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
+import numba
 import numpy as np
 
 import rtweekend as rt
 from rtweekend.io.image import tonemap
+from rtweekend.options import DEFAULT_SAMPLING, SAMPLINGS
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from common import machine, mitsuba_reference, save_json  # noqa: E402
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from common import REFERENCES, machine, reference, save_json  # noqa: E402
 from common import parser as bench_parser  # noqa: E402
 
-STRATEGIES = ("cosine", "light", "mixture")
-COLORS = {"cosine": "tab:blue", "light": "tab:red", "mixture": "tab:green"}
+KNOWN_COLORS = {"cosine": "tab:blue", "light": "tab:red", "mixture": "tab:green"}
+PEER_COLOR = "black"
 FULL = {
-    "cornell_box": dict(width=300, height=300, max_spp=1024, crop_seconds=6.0),
-    "cornell_glass": dict(width=150, height=150, max_spp=512, reference_spp=4096,
-                          crop_seconds=3.0),
+    "cornell_box": dict(width=300, height=300, max_spp=1024, crop_seconds=6.0,
+                        reference="cornell_box_300", reference_spp=8192),
+    "cornell_glass": dict(width=150, height=150, max_spp=1024, crop_seconds=3.0,
+                          reference="cornell_glass_150", reference_spp=16384),
 }
-QUICK = {
-    "cornell_box": dict(width=300, height=300, max_spp=4, crop_seconds=0.2),
-    "cornell_glass": dict(width=40, height=40, max_spp=4, reference_spp=16,
-                          crop_seconds=0.2),
-}
+QUICK = {name: dict(cfg, max_spp=4, crop_seconds=0.2) for name, cfg in FULL.items()}
 FIT_FROM_SPP = 8        # fit the slope where per-pass overheads no longer matter
 SEED = 2024             # the renders measured; references use other seeds
+COVER_FACTOR = 4        # rtweekend may go up to 4x max_spp to reach Mitsuba's last time
+NO_PEER = "Mitsuba not installed: pip install '.[peer]'; charting rtweekend alone"
 
 
-def reference_for(name, cfg, scene):
-    """(radiance, per-pixel stderr, label) of the answer errors are measured against."""
-    if name == "cornell_box":
-        ref, se = mitsuba_reference()
-        return ref, se, "Mitsuba 3, 8192 spp (independent renderer)"
-    spp = cfg["reference_spp"]
-    print(f"{name}: rendering its own reference, {spp} spp ...", flush=True)
-    r = rt.render(scene, spp=spp, seed=1, width=cfg["width"], height=cfg["height"])
-    return (r.image.astype(np.float64), r.stderr.astype(np.float64),
-            f"rtweekend itself, mixture sampling, {spp} spp (not independent)")
+def colors():
+    """A colour per strategy: the known ones fixed, any other the next free one."""
+    free = itertools.cycle(f"tab:{c}" for c in ("orange", "purple", "brown", "pink", "olive",
+                                                 "cyan"))
+    return {s: KNOWN_COLORS.get(s) or next(free) for s in SAMPLINGS}
 
 
 def errors(image, ref):
-    diff = image.astype(np.float64) - ref
+    """(RMSE, relMSE, fraction of non-finite values); those count as 0."""
+    image = np.asarray(image, dtype=np.float64)
+    bad = ~np.isfinite(image)
+    diff = np.where(bad, 0.0, image) - ref
     return (float(np.sqrt(np.mean(diff ** 2))),
-            float(np.mean(diff ** 2 / (ref ** 2 + 0.01))))   # relMSE, as in the literature
+            float(np.mean(diff ** 2 / (ref ** 2 + 0.01))),   # relMSE, as in the literature
+            float(bad.mean()))
 
 
-def measure(scene, cfg, sampling, ref):
-    warm = rt.Renderer(scene, seed=0, width=16, height=16, sampling=sampling)
-    warm.compile()
+def measure(scene, cfg, sampling, ref, threads, cover=0.0):
+    """One progressive render, measured at 1, 2, 4, ... max_spp spp, and further
+    (up to COVER_FACTOR x max_spp) until its time reaches `cover` seconds."""
+    warm = rt.Renderer(scene, seed=0, width=16, height=16, sampling=sampling, threads=threads)
+    compile_seconds = warm.compile()         # compile, or load from Numba's cache
     warm.add_samples(1)                      # warm-up: caches, threads, page faults
     r = rt.Renderer(scene, seed=SEED, width=cfg["width"], height=cfg["height"],
-                    sampling=sampling)
+                    sampling=sampling, threads=threads)
     r.compile()
     rows, target = [], 1
-    while target <= cfg["max_spp"]:
+    while target <= cfg["max_spp"] or (r.seconds < cover
+                                       and target <= COVER_FACTOR * cfg["max_spp"]):
         r.add_samples(target - r.spp)
         result = r.result()
-        rmse, relmse = errors(result.image, ref)
+        rmse, relmse, _ = errors(result.image, ref)
         rows.append(dict(spp=r.spp, seconds=r.seconds, rmse=rmse, relmse=relmse,
                          nan_fraction=result.stats.nan_dropped / result.stats.samples))
         print(f"  {sampling:8s} {r.spp:5d} spp {r.seconds:8.2f} s  RMSE {rmse:.5f}  "
               f"relMSE {relmse:.3e}", flush=True)
         target *= 2
-    return rows
+    return rows, compile_seconds
 
 
+# ------------------------------------------------------------------ the peer --
+class Peer:
+    """Mitsuba 3, in this process or in another interpreter (`python`)."""
+
+    def __init__(self, python=None):
+        self.python = python
+        self.how = f"subprocess: {python}" if python else "in-process"
+
+    def series(self, name, scene, cfg, spp, threads):
+        """([(spp, seconds, image)], info), or (None, reason) when Mitsuba is
+        not available there."""
+        if self.python:
+            return _series_subprocess(self.python, name, cfg, spp, threads)
+        import mitsuba_peer
+        info = {}
+        scene = mitsuba_peer._resized(scene, cfg["width"], cfg["height"])
+        spps = [2 ** k for k in range(spp.bit_length())]
+        return mitsuba_peer.series(scene, spps, SEED, threads=threads, info=info), info
+
+
+def _series_subprocess(python, name, cfg, spp, threads):
+    """mitsuba_peer.py --series in `python`, this repository first on its path."""
+    if cfg["width"] != cfg["height"]:
+        raise ValueError("mitsuba_peer.py --size renders square images of these scenes")
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(HERE.parent), env.get("PYTHONPATH"))
+                                        if p)
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "series.npz"
+        cmd = [python, str(HERE / "mitsuba_peer.py"), name, "--size", str(cfg["width"]),
+               "--spp", str(spp), "--seed", str(SEED), "--threads", str(threads),
+               "--series", "--save", str(out)]
+        r = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=3600)
+        if r.returncode:
+            raise RuntimeError(f"the peer failed ({' '.join(cmd)}):\n{r.stderr[-2000:]}")
+        info = json.loads(r.stdout.strip().splitlines()[-1])
+        if not info.get("available"):
+            return None, info.get("reason", "not available")
+        with np.load(out) as f:
+            points = list(zip(f["spp"].tolist(), f["seconds"].tolist(),
+                              f["images"].astype(np.float64)))
+    for k in ("peer", "available", "scene", "width", "height", "spp", "seconds"):
+        info.pop(k, None)
+    return points, info
+
+
+def find_peer(args):
+    """A Peer, or None after saying in one line why the chart has none."""
+    if args.no_peer:
+        print("Mitsuba left out (--no-peer); charting rtweekend alone")
+        return None
+    if args.peer_python:
+        print(f"Mitsuba: run by {args.peer_python}")
+        return Peer(args.peer_python)
+    import mitsuba_peer
+    why = mitsuba_peer.unavailable_reason()
+    if why is None:
+        print(f"Mitsuba {mitsuba_peer.mi.__version__}: in this process")
+        return Peer()
+    if mitsuba_peer.mi is None:
+        print(NO_PEER)
+    else:
+        print(f"Mitsuba unusable here ({why}); charting rtweekend alone")
+    return None
+
+
+def measure_peer(peer, name, scene, cfg, ref, threads):
+    """The peer's rows, images and settings, or None (said why) when it has none."""
+    points, info = peer.series(name, scene, cfg, cfg["max_spp"], threads)
+    if points is None:
+        print(f"Mitsuba not available ({peer.how}: {info}); charting rtweekend alone")
+        return None
+    rows, images = [], []
+    for spp, seconds, image in points:
+        if image.shape != ref.shape:
+            raise ValueError(f"Mitsuba's image is {image.shape}, the reference {ref.shape}")
+        rmse, relmse, bad = errors(image, ref)
+        rows.append(dict(spp=spp, seconds=seconds, rmse=rmse, relmse=relmse, nan_fraction=bad))
+        images.append((image, spp, seconds))
+        print(f"  {'Mitsuba':8s} {spp:5d} spp {seconds:8.2f} s  RMSE {rmse:.5f}  "
+              f"relMSE {relmse:.3e}", flush=True)
+    label = (f"Mitsuba {info.get('mitsuba', '3')} ({info.get('variant')}, path: "
+             "next-event estimation + MIS)")
+    return dict(label=label, how=peer.how, rows=rows, slope=fitted_slope(rows),
+                **{k: info.get(k) for k in ("mitsuba", "variant", "threads", "pass_spp",
+                                            "compile_seconds", "warmup_seconds")}), images
+
+
+# ---------------------------------------------------------------- analysis --
 def fitted_slope(rows):
     pts = [(math.log(p["seconds"]), math.log(p["rmse"])) for p in rows
            if p["spp"] >= FIT_FROM_SPP and p["seconds"] > 0]
@@ -92,51 +200,74 @@ def fitted_slope(rows):
 
 
 def rmse_at(rows, seconds):
-    """RMSE at a given time, interpolated log-log between measurements."""
-    t = np.log([p["seconds"] for p in rows])
+    """RMSE at a given time, interpolated log-log between measurements; None
+    outside the times measured."""
+    t = [p["seconds"] for p in rows]
+    if not t[0] <= seconds <= t[-1]:
+        return None
     e = np.log([p["rmse"] for p in rows])
-    return float(np.exp(np.interp(math.log(seconds), t, e)))
+    return float(np.exp(np.interp(math.log(seconds), np.log(t), e)))
 
 
 def equal_time(curves):
     """Compare the strategies at the latest time they all reached."""
+    base = DEFAULT_SAMPLING if DEFAULT_SAMPLING in curves else next(iter(curves))
     t = min(rows[-1]["seconds"] for rows in curves.values())
     at = {s: rmse_at(rows, t) for s, rows in curves.items()}
     # Variance ~ RMSE^2 ~ 1/time for an unbiased estimator: the time a strategy
-    # needs to reach mixture's error is (its RMSE / mixture's)^2 times longer.
-    return dict(seconds=t, rmse=at,
-                time_factor_vs_mixture={s: (at[s] / at["mixture"]) ** 2 for s in at})
+    # needs to reach the base's error is (its RMSE / the base's)^2 times longer.
+    return dict(seconds=t, rmse=at, base=base,
+                time_factor_vs_base={s: (at[s] / at[base]) ** 2 if at[s] and at[base] else None
+                                     for s in at})
 
 
-def crops(scene, cfg):
-    """Equal-time renders of each strategy; a centre crop of each, and the reference."""
+def versus_peer(curves, peer_rows):
+    """At each of Mitsuba's times: its RMSE, each strategy's (interpolated) and
+    the ratio of the two (None where a strategy was not measured that long)."""
+    table = []
+    for p in peer_rows:
+        at = {s: rmse_at(rows, p["seconds"]) for s, rows in curves.items()}
+        table.append(dict(seconds=p["seconds"], peer_spp=p["spp"], peer_rmse=p["rmse"],
+                          rmse=at, ratio={s: None if v is None else v / p["rmse"]
+                                          for s, v in at.items()}))
+    return table
+
+
+def crops(scene, cfg, threads):
+    """Equal-time renders of each strategy: (image, spp)."""
     out = {}
-    for s in STRATEGIES:
+    for s in SAMPLINGS:
         r = rt.render(scene, time=cfg["crop_seconds"], seed=SEED + 1, width=cfg["width"],
-                      height=cfg["height"], sampling=s)
+                      height=cfg["height"], sampling=s, threads=threads)
         out[s] = (r.image, r.stats.spp)
     return out
 
 
+# ------------------------------------------------------------------ charts --
 def chart(data, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, len(data["scenes"]), figsize=(6 * len(data["scenes"]), 4.6))
+    palette = colors()
+    n = len(data["scenes"])
+    fig, axes = plt.subplots(1, n, figsize=(6.4 * n, 5.0))
     for ax, (name, d) in zip(np.atleast_1d(axes), data["scenes"].items()):
         for s, rows in d["curves"].items():
-            t = [p["seconds"] for p in rows]
-            e = [p["rmse"] for p in rows]
-            ax.loglog(t, e, "o-", color=COLORS[s], ms=3,
-                      label=f"{s} (slope {d['slopes'][s]:+.2f})")
-        t0 = d["curves"]["mixture"][0]["seconds"]
-        e0 = d["curves"]["mixture"][0]["rmse"]
-        ts = np.array([t0, d["curves"]["mixture"][-1]["seconds"]])
+            ax.loglog([p["seconds"] for p in rows], [p["rmse"] for p in rows], "o-",
+                      color=palette.get(s), ms=3, label=f"{s} (slope {d['slopes'][s]:+.2f})")
+        if d["peer"]:
+            rows = d["peer"]["rows"]
+            ax.loglog([p["seconds"] for p in rows], [p["rmse"] for p in rows], "s--",
+                      color=PEER_COLOR, ms=3,
+                      label=f"Mitsuba 3, path (slope {d['peer']['slope']:+.2f})")
+        guide = d["curves"][d["equal_time"]["base"]]
+        t0, e0 = guide[0]["seconds"], guide[0]["rmse"]
+        ts = np.array([t0, guide[-1]["seconds"]])
         ax.loglog(ts, e0 * (ts / t0) ** -0.5, ":", color="gray", label="slope -1/2")
-        ax.axhline(d["reference_noise_rms"], color="black", lw=0.8, ls="--",
+        ax.axhline(d["reference_noise_rms"], color="black", lw=0.8, ls="-.",
                    label="reference's own noise")
         ax.set_title(f"{name} {d['width']}x{d['height']}\nvs {d['reference']}", fontsize=9)
-        ax.set_xlabel("seconds (2 threads)")
+        ax.set_xlabel(f"seconds ({data['threads']} threads)")
         ax.set_ylabel("RMSE of linear radiance")
         ax.legend(fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
@@ -149,46 +280,84 @@ def crop_chart(images, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    names = list(images)
-    fig, axes = plt.subplots(len(names), 4, figsize=(12, 3.3 * len(names)))
-    for row, name in zip(np.atleast_2d(axes), names):
-        ref, panels, seconds = images[name]
-        h, w = ref.shape[:2]
+    rows = [(name, [(f"{s}, {spp} spp in {seconds:g} s", im) for s, (im, spp) in
+                    panels.items()] + extra + [("reference", ref)])
+            for name, (ref, panels, seconds, extra) in images.items()]
+    cols = max(len(p) for _, p in rows)
+    fig, axes = plt.subplots(len(rows), cols, figsize=(3 * cols, 3.3 * len(rows)),
+                             squeeze=False)
+    for axrow, (name, panels) in zip(axes, rows):
+        h, w = panels[-1][1].shape[:2]
         ys, xs = slice(h // 8, h // 8 + h // 2), slice(w // 4, w // 4 + w // 2)
-        for ax, (title, img) in zip(row, [*[(f"{s}, {spp} spp in {seconds:g} s", im)
-                                            for s, (im, spp) in panels.items()],
-                                          ("reference", ref)]):
-            ax.imshow(tonemap(img[ys, xs]), interpolation="nearest")
-            ax.set_title(f"{name}: {title}", fontsize=8)
+        for ax in axrow:
             ax.axis("off")
+        for ax, (title, img) in zip(axrow, panels):
+            ax.imshow(tonemap(np.where(np.isfinite(img), img, 0)[ys, xs]),
+                      interpolation="nearest")
+            ax.set_title(f"{name}: {title}", fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
+def peer_crop(images, seconds):
+    """Mitsuba's render with the most samples within `seconds` (else its first)."""
+    within = [im for im in images if im[2] <= seconds] or images[:1]
+    image, spp, t = within[-1]
+    return [(f"Mitsuba, {spp} spp in {t:.2g} s", image)]
+
+
+# -------------------------------------------------------------------- main --
 def main(argv=None):
     parser = bench_parser(__doc__)
+    parser.add_argument("--threads", type=int, default=numba.config.NUMBA_NUM_THREADS,
+                        help="threads of rtweekend and of Mitsuba (default: all of Numba's)")
+    parser.add_argument("--peer-python", default=os.environ.get("RTWEEKEND_PEER_PYTHON"),
+                        help="run Mitsuba with this interpreter (e.g. its own venv's python; "
+                             "env RTWEEKEND_PEER_PYTHON)")
+    parser.add_argument("--no-peer", action="store_true", help="leave Mitsuba out")
     args = parser.parse_args(argv)
     config = QUICK if args.quick else FULL
     start = time.perf_counter()
-    data = dict(machine=machine(), quick=args.quick, scenes={})
+    peer = find_peer(args)
+    data = dict(machine=machine(), quick=args.quick, threads=args.threads,
+                references=str(REFERENCES), peer=peer.how if peer else None, scenes={})
     crop_images = {}
     for name, cfg in config.items():
+        found = reference(cfg["reference"])
+        if found is None:
+            print(f"{name}: no reference {cfg['reference']}.npy (+ _stderr.npy) in {REFERENCES} "
+                  "(set RTWEEKEND_REFERENCES); skipped")
+            continue
+        ref, ref_se = found
+        label = f"Mitsuba 3, {cfg['reference_spp']} spp (independent renderer)"
         scene = rt.load_scene(name)
-        ref, ref_se, label = reference_for(name, cfg, scene)
         print(f"{name} {cfg['width']}x{cfg['height']} against {label}", flush=True)
-        curves = {s: measure(scene, cfg, s, ref) for s in STRATEGIES}
+        peer_data, peer_images = None, []
+        if peer:
+            got = measure_peer(peer, name, scene, cfg, ref, args.threads)
+            if got:
+                peer_data, peer_images = got
+        cover = peer_data["rows"][-1]["seconds"] if peer_data else 0.0
+        measured = {s: measure(scene, cfg, s, ref, args.threads, cover) for s in SAMPLINGS}
+        curves = {s: rows for s, (rows, _) in measured.items()}
         data["scenes"][name] = dict(
             width=cfg["width"], height=cfg["height"], reference=label,
+            reference_file=str(REFERENCES / f"{cfg['reference']}.npy"),
             reference_noise_rms=float(np.sqrt(np.mean(ref_se ** 2))),
-            curves=curves, slopes={s: fitted_slope(rows) for s, rows in curves.items()},
-            equal_time=equal_time(curves))
-        crop_images[name] = (ref, crops(scene, cfg), cfg["crop_seconds"])
+            curves=curves, compile_seconds={s: c for s, (_, c) in measured.items()},
+            slopes={s: fitted_slope(rows) for s, rows in curves.items()},
+            equal_time=equal_time(curves), peer=peer_data,
+            vs_peer=versus_peer(curves, peer_data["rows"]) if peer_data else [])
+        crop_images[name] = (ref, crops(scene, cfg, args.threads), cfg["crop_seconds"],
+                             peer_crop(peer_images, cfg["crop_seconds"]) if peer_images else [])
     data["total_seconds"] = time.perf_counter() - start
+    data["machine"] = machine()              # now that Numba's threading layer is known
     args.out.mkdir(parents=True, exist_ok=True)
     save_json("accuracy.json", data, args.out)
-    chart(data, args.out / "accuracy.png")
-    crop_chart(crop_images, args.out / "accuracy_crops.png")
+    if data["scenes"]:
+        chart(data, args.out / "accuracy.png")
+        crop_chart(crop_images, args.out / "accuracy_crops.png")
     summary(data)
 
 
@@ -197,10 +366,29 @@ def summary(data):
     for name, d in data["scenes"].items():
         eq = d["equal_time"]
         slopes = ", ".join(f"{s} {v:+.2f}" for s, v in d["slopes"].items())
+        if d["peer"]:
+            slopes += f", Mitsuba {d['peer']['slope']:+.2f}"
         print(f"{name}: slopes {slopes}")
-        print(f"  at {eq['seconds']:.1f} s: " + ", ".join(
-            f"{s} RMSE {eq['rmse'][s]:.4f} ({eq['time_factor_vs_mixture'][s]:.2f}x "
-            "mixture's time for its error)" for s in STRATEGIES))
+        print(f"  at {eq['seconds']:.2f} s: " + ", ".join(
+            f"{s} RMSE {eq['rmse'][s]:.4f} ({eq['time_factor_vs_base'][s]:.2f}x "
+            f"{eq['base']}'s time for its error)" for s in eq["rmse"] if eq["rmse"][s]))
+        if d["vs_peer"]:
+            print(equal_time_table(name, d))
+
+
+def equal_time_table(name, d):
+    """The equal-time table as Markdown: a row per Mitsuba point, each strategy's
+    RMSE at that time and its ratio to Mitsuba's."""
+    strategies = list(d["curves"])
+    lines = [f"{name}: RMSE at Mitsuba's times (ratio to Mitsuba's RMSE)", "",
+             "| seconds | Mitsuba spp | Mitsuba RMSE | " + " | ".join(strategies) + " |",
+             "|---:|---:|---:|" + "---:|" * len(strategies)]
+    for row in d["vs_peer"]:
+        cells = ["--" if row["rmse"][s] is None else
+                 f"{row['rmse'][s]:.4f} ({row['ratio'][s]:.2f}x)" for s in strategies]
+        lines.append(f"| {row['seconds']:.3g} | {row['peer_spp']} | {row['peer_rmse']:.4f} | "
+                     + " | ".join(cells) + " |")
+    return "\n".join(lines)
 
 
 if __name__ == "__main__":

@@ -12,7 +12,10 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
-REFERENCE = HERE.parent / "tests" / "data" / "reference" / "cornell_box_300.npz"
+# Independent references (Mitsuba 3): ../shared/references beside the repository,
+# or the folder RTWEEKEND_REFERENCES names.
+REFERENCES = Path(os.environ.get("RTWEEKEND_REFERENCES") or
+                  HERE.parents[1] / "shared" / "references")
 
 
 def machine():
@@ -42,10 +45,13 @@ def save_json(name, data, folder=RESULTS):
     return path
 
 
-def mitsuba_reference():
-    """Mitsuba 3's 8192-spp cornell_box at 300x300: (radiance, stderr)."""
-    with np.load(REFERENCE) as f:
-        return f["radiance"].astype(np.float64), f["stderr"].astype(np.float64)
+def reference(name):
+    """(radiance, per-pixel stderr) of REFERENCES/name.npy and name_stderr.npy,
+    as float64, or None when either file is absent."""
+    paths = REFERENCES / f"{name}.npy", REFERENCES / f"{name}_stderr.npy"
+    if not all(p.is_file() for p in paths):
+        return None
+    return tuple(np.load(p).astype(np.float64) for p in paths)
 
 
 def parser(doc):

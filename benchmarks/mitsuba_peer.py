@@ -1,6 +1,7 @@
 """Mitsuba 3 as a peer renderer: translate an rtweekend Scene and render it.
 
-Mitsuba lives in its own venv (it is not a dependency of rtweekend):
+Mitsuba is not a dependency of rtweekend: `pip install '.[peer]'` adds it, or
+give it a venv of its own (benchmarks/accuracy.py --peer-python runs it there):
 
     python3 -m venv /work/mitsuba-venv
     /work/mitsuba-venv/bin/pip install mitsuba numpy
@@ -9,6 +10,10 @@ Mitsuba lives in its own venv (it is not a dependency of rtweekend):
     export DRJIT_LIBLLVM_PATH=/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1
 
     python benchmarks/mitsuba_peer.py cornell_box --size 300 --spp 256 --threads 2
+    python benchmarks/mitsuba_peer.py cornell_box --size 300 --spp 64 --series --save s.npz
+
+(--series: separate renders at 1, 2, 4, ... 64 spp, each timed; what accuracy.py
+charts.)
 
 Conventions that make the two renderers agree:
   * Depth: Mitsuba's path `max_depth` counts path segments, the camera ray
@@ -47,11 +52,16 @@ _variant = None
 
 def available():
     """True when mitsuba imports and one of VARIANTS can be set."""
+    return unavailable_reason() is None
+
+
+def unavailable_reason():
+    """None when Mitsuba works here, else why not (one line)."""
     try:
         _setup()
-        return True
-    except Exception:
-        return False
+        return None
+    except Exception as e:
+        return f"{type(e).__name__}: {e}".splitlines()[0]
 
 
 def _setup(threads=None):
@@ -255,24 +265,61 @@ def render(scene, spp, seed=0, pass_spp=64, threads=None, info=None):
     (a dict) receives the warm-up time and the compile time estimated from it."""
     _setup(threads)
     pass_spp = max(1, min(pass_spp, spp))
-    passes = [pass_spp] * (spp // pass_spp) + ([spp % pass_spp] if spp % pass_spp else [])
     mscene = mi.load_dict(mitsuba_dict(scene, pass_spp, seed))
-
-    def one(n, s):
-        img = mi.render(mscene, spp=n, seed=s)
-        return np.array(img, dtype=np.float64)[..., :3]   # evaluates the kernel
-
     t0 = time.perf_counter()
-    one(pass_spp, (seed * 100_003 + 99_999) % 2**32)    # warm-up: compile + run
+    _render_passes(mscene, pass_spp, pass_spp, seed, warm_up=True)   # compile + run
     warm = time.perf_counter() - t0
     t0 = time.perf_counter()
-    acc = sum(n * one(n, (seed * 100_003 + i) % 2**32) for i, n in enumerate(passes))
+    image = _render_passes(mscene, spp, pass_spp, seed)
     seconds = time.perf_counter() - t0
     if info is not None:
-        info.update(warmup_seconds=warm, passes=len(passes), variant=_variant,
+        info.update(warmup_seconds=warm, passes=-(-spp // pass_spp), variant=_variant,
                     threads=dr.thread_count(),
                     compile_seconds=max(0.0, warm - seconds * pass_spp / spp))
-    return (acc / spp).astype(np.float32), seconds
+    return image.astype(np.float32), seconds
+
+
+def series(scene, spps, seed=0, pass_spp=64, threads=None, info=None):
+    """[(spp, seconds, float64 image)] for each spp in spps: separate renders,
+    each timed from scratch (render k uses seed + k, so no two share samples).
+
+    One warm-up pass per pass size used (untimed) comes first, so compilation is
+    excluded; `info` receives the warm-up time, the compile time estimated from
+    it, the variant and the thread count."""
+    _setup(threads)
+    biggest = max(1, min(pass_spp, max(spps)))
+    mscene = mi.load_dict(mitsuba_dict(scene, biggest, seed))
+    t0 = time.perf_counter()
+    _render_passes(mscene, biggest, biggest, seed, warm_up=True)      # compile + run
+    first = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    _render_passes(mscene, biggest, biggest, seed, warm_up=True)      # run only
+    again = time.perf_counter() - t0
+    for n in sorted({min(n, biggest) for n in spps} - {biggest}):
+        _render_passes(mscene, n, n, seed, warm_up=True)
+    out = []
+    for k, n in enumerate(spps):
+        t0 = time.perf_counter()
+        image = _render_passes(mscene, n, pass_spp, seed + k)
+        out.append((n, time.perf_counter() - t0, image))
+    if info is not None:
+        info.update(warmup_seconds=first + again, compile_seconds=max(0.0, first - again),
+                    variant=_variant, threads=dr.thread_count(), pass_spp=pass_spp,
+                    mitsuba=mi.__version__)
+    return out
+
+
+def _render_passes(mscene, spp, pass_spp, seed, warm_up=False):
+    """The mean of spp samples per pixel, rendered in passes of at most pass_spp
+    (pass i uses Mitsuba seed seed * 100003 + i; a warm-up pass, 99999)."""
+    pass_spp = max(1, min(pass_spp, spp))
+    passes = [pass_spp] * (spp // pass_spp) + ([spp % pass_spp] if spp % pass_spp else [])
+    acc = 0.0
+    for i, n in enumerate(passes):
+        s = (seed * 100_003 + (99_999 if warm_up else i)) % 2**32
+        img = mi.render(mscene, spp=n, seed=s)
+        acc = acc + n * np.array(img, dtype=np.float64)[..., :3]   # evaluates the kernel
+    return acc / spp
 
 
 def main(argv=None):
@@ -285,10 +332,13 @@ def main(argv=None):
     p.add_argument("--spp", type=int, default=64)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--threads", type=int, help="Dr.Jit worker threads")
-    p.add_argument("--save", type=Path, help="write the image as .npy")
+    p.add_argument("--save", type=Path, help="write the image as .npy (.npz with --series)")
+    p.add_argument("--series", action="store_true",
+                   help="separate renders at 1, 2, 4, ... --spp (for benchmarks/accuracy.py)")
     a = p.parse_args(argv)
-    if not available():
-        print(json.dumps({"peer": "mitsuba", "available": False}))
+    why = unavailable_reason()
+    if why:
+        print(json.dumps({"peer": "mitsuba", "available": False, "reason": why}))
         return
     scene = rt.load_scene(a.scene)
     if a.size:
@@ -296,6 +346,16 @@ def main(argv=None):
         h = max(1, round(a.size * c.height / c.width))
         scene = _resized(scene, a.size, h)
     info = {}
+    if a.series:
+        spps = [2 ** k for k in range(a.spp.bit_length()) if 2 ** k <= a.spp]
+        out = series(scene, spps, a.seed, threads=a.threads, info=info)
+        if a.save:
+            np.savez(a.save, spp=np.array(spps), seconds=np.array([t for _, t, _ in out]),
+                     images=np.array([im for _, _, im in out], dtype=np.float32))
+        print(json.dumps({"peer": "mitsuba", "available": True, "scene": a.scene,
+                          "width": scene.camera.width, "height": scene.camera.height,
+                          "spp": spps, "seconds": [t for _, t, _ in out], **info}))
+        return
     img, sec = render(scene, a.spp, a.seed, threads=a.threads, info=info)
     if a.save:
         np.save(a.save, img)

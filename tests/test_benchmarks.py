@@ -1,29 +1,61 @@
 """The benchmark scripts run (tiny versions) and write what they promise."""
 import json
+import os
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 from conftest import REPO
 
 
+def _references(folder, names=("cornell_box_300", "cornell_glass_150")):
+    """The Mitsuba references as benchmarks/accuracy.py reads them (name.npy and
+    name_stderr.npy), written from the copies in tests/data/reference."""
+    folder.mkdir()
+    for name in names:
+        with np.load(REPO / "tests" / "data" / "reference" / f"{name}.npz") as f:
+            np.save(folder / f"{name}.npy", f["radiance"])
+            np.save(folder / f"{name}_stderr.npy", f["stderr"])
+    return folder
+
+
+def _accuracy(out, references, *args):
+    env = dict(os.environ, RTWEEKEND_REFERENCES=str(references))
+    return subprocess.run([sys.executable, str(REPO / "benchmarks" / "accuracy.py"), "--quick",
+                           "--out", str(out), *args], capture_output=True, text=True,
+                          timeout=600, env=env)
+
+
 def test_accuracy_benchmark_quick(tmp_path):
-    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "accuracy.py"), "--quick",
-                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)
+    from rtweekend.options import SAMPLINGS
+    r = _accuracy(tmp_path, _references(tmp_path / "references"))
     assert r.returncode == 0, r.stderr
     data = json.loads((tmp_path / "accuracy.json").read_text())
     assert set(data["scenes"]) == {"cornell_box", "cornell_glass"}
     for scene in data["scenes"].values():
-        assert set(scene["curves"]) == {"cosine", "light", "mixture"}
+        assert "Mitsuba" in scene["reference"] and "independent" in scene["reference"]
+        assert set(scene["curves"]) == set(SAMPLINGS)
         for rows in scene["curves"].values():
-            assert [p["spp"] for p in rows] == [1, 2, 4]
+            assert [p["spp"] for p in rows][:3] == [1, 2, 4]
             assert all(p["rmse"] > 0 and p["nan_fraction"] == 0 for p in rows)
             times = [p["seconds"] for p in rows]
             assert times == sorted(times)
-    assert "Mitsuba" in data["scenes"]["cornell_box"]["reference"]
-    assert "not independent" in data["scenes"]["cornell_glass"]["reference"]
+        if scene["peer"] is None:            # Mitsuba is optional: one line says so
+            assert scene["vs_peer"] == []
+            assert "Mitsuba not installed: pip install '.[peer]'" in r.stdout
+        else:
+            assert [p["spp"] for p in scene["peer"]["rows"]] == [1, 2, 4]
+            assert len(scene["vs_peer"]) == 3
     for name in ("accuracy.png", "accuracy_crops.png"):
         assert (tmp_path / name).stat().st_size > 10_000
+
+
+def test_accuracy_benchmark_skips_a_scene_without_its_reference(tmp_path):
+    r = _accuracy(tmp_path, tmp_path / "nowhere", "--no-peer")
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.count("(set RTWEEKEND_REFERENCES); skipped") == 2
+    assert json.loads((tmp_path / "accuracy.json").read_text())["scenes"] == {}
 
 
 def test_throughput_benchmark_quick(tmp_path):
