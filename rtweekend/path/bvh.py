@@ -33,7 +33,7 @@ BINS = 16             # centroid bins per axis for the SAH
 TRAVERSAL_COST = 1.0  # cost of a box test relative to an object test
 # From this many primitives on, the BVH beats testing every object (whose loop
 # Numba compiles tightly): measured per scene in benchmarks/results/measurements.md.
-BVH_MIN_OBJECTS = 12
+BVH_MIN_OBJECTS = 10
 
 
 def object_bounds(obj_i, obj_f):
