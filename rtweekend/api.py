@@ -26,8 +26,9 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
 
     spp: samples per pixel (default: the scene's); time: render passes until
     this many seconds are spent instead.  sampling: "mixture" (The Rest of Your
-    Life, default), "cosine" (The Next Week) or "light" (lights only; misses
-    indirect light).  progress: True for a bar on stderr, or a callable
+    Life, default), "cosine" (The Next Week), "light" (lights only; misses
+    indirect light) or "nee" (next-event estimation with MIS and Russian
+    roulette).  progress: True for a bar on stderr, or a callable
     progress(spp_done, spp_total_or_None, samples_per_s).  bvh: force the
     hierarchy on (True) or off (False); by default scenes with many objects use it.
     clamp: cap every sample's channels at this value (biased: it removes energy;
