@@ -39,7 +39,7 @@ SAMPLINGS = {
     "cosine": Sampling(0.0),             # The Next Week
     "mixture": Sampling(0.5),            # The Rest of Your Life
     "light": Sampling(1.0),              # the lights list only
-    "nee": Sampling(0.5, next_event=True, roulette_depth=3),
+    "nee": Sampling(0.5, next_event=True, roulette_depth=1),
 }
 DEFAULT_SAMPLING = "mixture"
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.
