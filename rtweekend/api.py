@@ -28,7 +28,9 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     this many seconds are spent instead.  sampling: "mixture" (The Rest of Your
     Life, default), "cosine" (The Next Week), "light" (lights only; misses
     indirect light) or "nee" (next-event estimation with MIS and Russian
-    roulette).  progress: True for a bar on stderr, or a callable
+    roulette); "mixture+sobol" and "nee+sobol" feed them low-discrepancy points
+    for the pixel position and the first diffuse bounce.  progress: True for a
+    bar on stderr, or a callable
     progress(spp_done, spp_total_or_None, samples_per_s).  bvh: force the
     hierarchy on (True) or off (False); by default scenes with many objects use it.
     clamp: cap every sample's channels at this value (biased: it removes energy;

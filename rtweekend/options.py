@@ -29,10 +29,14 @@ class Sampling:
     the mixture then draws towards the lights list's objects that do not emit
     (attractors such as a glass ball), and paths end by Russian roulette from
     depth `roulette_depth` on (max_depth still caps them).
+    sobol: the position in the pixel and the first diffuse bounce's direction
+    come from Owen-scrambled Sobol points (kernel/sobol.py) instead of the
+    independent stream (which still gives every other number).
     """
     light_weight: float
     next_event: bool = False
     roulette_depth: int = 0      # 0: no Russian roulette
+    sobol: bool = False
 
 
 SAMPLINGS = {
@@ -40,6 +44,8 @@ SAMPLINGS = {
     "mixture": Sampling(0.5),            # The Rest of Your Life
     "light": Sampling(1.0),              # the lights list only
     "nee": Sampling(0.5, next_event=True, roulette_depth=1),
+    "mixture+sobol": Sampling(0.5, sobol=True),
+    "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True),
 }
 DEFAULT_SAMPLING = "mixture"
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.

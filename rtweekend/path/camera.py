@@ -42,6 +42,12 @@ def get_ray(cam, x, y, width, height, state):
     """(origin, unit direction, state) of a jittered ray through pixel (x, y)."""
     jx, state = rng.uniform(state)
     jy, state = rng.uniform(state)
+    return get_ray_at(cam, x, y, width, height, jx, jy, state)
+
+
+@jit_inline
+def get_ray_at(cam, x, y, width, height, jx, jy, state):
+    """get_ray with the position in the pixel given: (x + jx, y + jy)."""
     s = (x + jx) / width
     t = (y + jy) / height
     ox, oy, oz = cam[ORIGIN], cam[ORIGIN + 1], cam[ORIGIN + 2]

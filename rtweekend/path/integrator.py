@@ -16,13 +16,13 @@ Shadow rays count as rays in the statistics, not as path segments of max_depth.
 """
 import numpy as np
 
-from ..kernel import rng
+from ..kernel import rng, sobol
 from ..kernel.jit import jit, jit_inline, jit_row
 from ..kernel.vec3 import dot, madd
 from . import film as films
 from . import materials, nee, pdf, shapes
 from .bvh import INF, closest_hit
-from .camera import get_ray
+from .camera import get_ray, get_ray_at
 from .film import SEGMENTS
 from .layout import BG_SKY, NO_HIT, OBJ_MAT
 
@@ -46,13 +46,16 @@ def face_normal(d, n_out):
 
 
 @jit_row
-def render_row(y, film, scene, params, s0, s1, events):
+def render_row(y, film, scene, params, s0, s1, events, quasi):
     """Trace samples s0..s1-1 of every pixel of row y into the film.
 
     events: None for the books' estimators; for next-event estimation, the
     segment from which Russian roulette may end a path (0: never).  Every use is
     an `events is not None` test on the argument itself, which Numba prunes when
     compiling for None: the books' kernel has none of it, in code or in time.
+    quasi: None, or the position in the pixel (pair 0) and the first diffuse
+    bounce's direction (pair 1) come from Sobol points keyed by (pixel, sample
+    index, pair, seed) (kernel/sobol.py), pruned the same way.
 
     One function per row, called from the prange kernel (kernel.py), so that
     the camera, hit and pdf helpers can be inlined into it (inlined into the
@@ -67,7 +70,13 @@ def render_row(y, film, scene, params, s0, s1, events):
         pixel = y * width + x
         for s in range(s0, s1):
             state = rng.seed_state(pixel, s, params.seed)
-            o, d, state = get_ray(params.cam, x, y, width, params.height, state)
+            if quasi is not None:
+                jx, jy = sobol.sample_2d(pixel, s, 0, params.seed)
+                o, d, state = get_ray_at(params.cam, x, y, width, params.height, jx, jy,
+                                         state)
+            else:
+                o, d, state = get_ray(params.cam, x, y, width, params.height, state)
+            first_diffuse = True            # no diffuse bounce drawn yet (Sobol pair 1)
             # -- the path: radiance (lr, lg, lb) along the camera ray (o, d) --
             lr, lg, lb = 0.0, 0.0, 0.0      # radiance gathered so far
             tr, tg, tb = 1.0, 1.0, 1.0      # path throughput
@@ -138,7 +147,17 @@ def render_row(y, film, scene, params, s0, s1, events):
                         shadow_o = p
                         sr, sg, sb = (tr * att[0] * c[0], tg * att[1] * c[1],
                                       tb * att[2] * c[2])
-                if specular:
+                drawn = False
+                if quasi is not None:
+                    if not specular and first_diffuse:
+                        u1, u2 = sobol.sample_2d(pixel, s, 1, params.seed)
+                        d, state = pdf.mixture_at(scene, p, n, params.light_weight if
+                                                  use_lights else 0.0, u1, u2, state)
+                        drawn = True
+                        first_diffuse = False
+                if drawn:
+                    pass
+                elif specular:
                     d = d_out
                 elif use_lights:
                     d, state = pdf.mixture_generate(scene, p, n, params.light_weight, state)

@@ -21,11 +21,17 @@ INV_PI = 1.0 / math.pi
 def cosine_generate(n, state):
     u1, state = rng.uniform(state)
     u2, state = rng.uniform(state)
+    return cosine_at(n, u1, u2), state
+
+
+@jit
+def cosine_at(n, u1, u2):
+    """The direction of cosine_generate for the uniforms (u1, u2)."""
     phi = rng.TWO_PI * u1
     s = math.sqrt(u2)
     z = math.sqrt(max(0.0, 1.0 - u2))
     u, v = onb(n)
-    return local(u, v, n, (math.cos(phi) * s, math.sin(phi) * s, z)), state
+    return local(u, v, n, (math.cos(phi) * s, math.sin(phi) * s, z))
 
 
 @jit
@@ -68,6 +74,19 @@ def mixture_generate(scene, p, n, light_weight, state):
     if u < light_weight:
         return lights_generate(scene, p, state)
     return cosine_generate(n, state)
+
+
+@jit_inline
+def mixture_at(scene, p, n, light_weight, u1, u2, state):
+    """mixture_generate from a 2-D point (u1, u2) (a low-discrepancy one): u1 <
+    light_weight picks a light, by u1 / light_weight (its direction from the
+    stream); otherwise ((u1 - w) / (1 - w), u2) is the cosine lobe's point, so
+    stratified points stay stratified over the lobe."""
+    if u1 < light_weight:
+        lights = scene.lights
+        k = lights[min(int(u1 / light_weight * lights.shape[0]), lights.shape[0] - 1)]
+        return shapes.sample_toward(scene, k, p, state)
+    return cosine_at(n, (u1 - light_weight) / (1.0 - light_weight), u2), state
 
 
 @jit_inline

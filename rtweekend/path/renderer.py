@@ -39,6 +39,9 @@ class Frame(NamedTuple):
     # to the kernel as an argument of its own, so that the books' kernel is
     # compiled without any of it (Numba prunes `is None` branches on arguments).
     events: int | None = None
+    # Low-discrepancy samples (integrator.py): None for the independent stream
+    # only, else 0 (pruned the same way).
+    quasi: int | None = None
 
     @property
     def width(self):
@@ -69,7 +72,8 @@ def freeze(scene, options):
                         light_weight=strategy.light_weight if len(arrays.lights) else 0.0,
                         clamp=options.clamp_value)
     return Frame(arrays, params, interleaved_rows(camera.height),
-                 strategy.roulette_depth if next_event else None)
+                 strategy.roulette_depth if next_event else None,
+                 0 if strategy.sobol else None)
 
 
 def render_samples(frame, film, s0, s1, rows=None):
@@ -77,7 +81,7 @@ def render_samples(frame, film, s0, s1, rows=None):
     frame.rows) to `film`.  A pixel's sums depend on its sample indices only,
     so rows rendered in several parts give the bits of one whole pass."""
     render_pass(film, frame.scene, frame.params, frame.rows if rows is None else rows, s0, s1,
-                frame.events)
+                frame.events, frame.quasi)
 
 
 def block_film(frame, s0, s1):
