@@ -26,10 +26,10 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
 
     spp: samples per pixel (default: the scene's); time: render passes until
     this many seconds are spent instead.  sampling: "mixture" (The Rest of Your
-    Life, default), "cosine" (The Next Week), "light" (lights only; misses
-    indirect light) or "nee" (next-event estimation with MIS and Russian
-    roulette); "mixture+sobol" and "nee+sobol" feed them low-discrepancy points
-    for the pixel position and the first diffuse bounce.  progress: True for a
+    Life), "cosine" (The Next Week), "light" (lights only; misses indirect
+    light) or "nee" (next-event estimation with MIS and Russian roulette);
+    "mixture+sobol" (the default) and "nee+sobol" feed them low-discrepancy
+    points for the pixel position and the first diffuse bounce.  progress: True for a
     bar on stderr, or a callable
     progress(spp_done, spp_total_or_None, samples_per_s).  bvh: force the
     hierarchy on (True) or off (False); by default scenes with many objects use it.
