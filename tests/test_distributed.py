@@ -10,7 +10,6 @@ import signal
 import socket
 import subprocess
 import sys
-import threading
 import time
 
 import numpy as np
@@ -24,6 +23,7 @@ from rtweekend.distributed import (ClusterError, dask_client, environment,  # no
                                    warm_worker)
 from rtweekend.options import RenderOptions  # noqa: E402
 from rtweekend.path.renderer import freeze  # noqa: E402
+from watch import Watched  # noqa: E402
 
 CMD = [sys.executable, "-m", "rtweekend"]
 SMALL = dict(width=32, height=32, seed=7)
@@ -204,32 +204,6 @@ def test_the_command_with_workers_writes_the_local_image(tmp_path):
     assert np.array_equal(np.load(tmp_path / "far.npy"), np.load(tmp_path / "local.npy"))
 
 
-class Watched:
-    """A process whose stderr is collected as it comes (the progress bar's passes)."""
-
-    def __init__(self, args, **kwargs):
-        self.p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                  **kwargs)
-        self.err = bytearray()
-        self.reader = threading.Thread(target=self._pump, daemon=True)
-        self.reader.start()
-
-    def _pump(self):
-        while chunk := self.p.stderr.read1(256):
-            self.err.extend(chunk)
-
-    def wait_for(self, text, seconds=60):
-        deadline = time.monotonic() + seconds
-        while text not in self.err and time.monotonic() < deadline and self.p.poll() is None:
-            time.sleep(0.05)
-        assert text in self.err, self.err.decode(errors="replace")
-
-    def finish(self, seconds=60):
-        self.p.wait(timeout=seconds)
-        self.reader.join(timeout=10)
-        return self.p.returncode, self.p.stdout.read().decode(), self.err.decode()
-
-
 def _spp_kept(stdout):
     summary = stdout.strip().splitlines()[-1]
     assert "interrupted" in summary and "of 100000 spp" in summary, summary
@@ -246,7 +220,7 @@ def test_ctrl_c_keeps_the_blocks_merged(tmp_path, cornell_box):
     out = tmp_path / "partial.npy"
     w = Watched(CMD + ["render", "cornell_box", "-o", str(out), "--spp", "100000",
                        "--width", "32", "--height", "32", "--seed", "5", "--workers", "2"])
-    w.wait_for(b"pass 2")
+    w.wait_for(b"pass 2", timeout=60)
     w.p.send_signal(signal.SIGINT)
     code, stdout, stderr = w.finish()
     assert code == 130
@@ -280,7 +254,7 @@ def test_a_lost_cluster_keeps_the_blocks_merged(tmp_path, cornell_box):
         render = Watched(CMD + ["render", "cornell_box", "-o", str(out), "--spp", "100000",
                                 "--width", "32", "--height", "32", "--seed", "6",
                                 "--scheduler", address])
-        render.wait_for(b"pass 1")
+        render.wait_for(b"pass 1", timeout=60)
         scheduler.kill()
         code, stdout, stderr = render.finish()
     finally:

@@ -1,10 +1,8 @@
 """Passes sized by time, Ctrl-C (real signals, in subprocesses), the memory
 check, and what the summary says about compiling (issue #16)."""
 import os
-import signal
 import subprocess
 import sys
-import threading
 import time
 import tomllib
 from types import SimpleNamespace
@@ -12,6 +10,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 from conftest import REPO
+from watch import Watched
 
 import rtweekend as rt
 from rtweekend import local, memory
@@ -49,39 +48,18 @@ def mirror_box(tmp_path, width, height, depth):
     return path
 
 
-class Run:
-    """`rtweekend ...` in a subprocess, its stderr read as it comes."""
+class Run(Watched):
+    """`rtweekend ...` in a subprocess; finish() gives stderr's lines without the bar."""
 
     def __init__(self, *args, env=None, cwd=None):
-        self.p = subprocess.Popen(CMD + list(args), stdout=subprocess.PIPE,
-                                  stderr=subprocess.PIPE, env=env, cwd=cwd)
-        self.err = bytearray()
-        self.reader = threading.Thread(target=self._pump, daemon=True)
-        self.reader.start()
-
-    def _pump(self):
-        while chunk := self.p.stderr.read1(256):
-            self.err.extend(chunk)
-
-    def wait_for(self, marker, timeout=120):
-        deadline = time.monotonic() + timeout
-        while (marker not in self.err and time.monotonic() < deadline
-               and self.p.poll() is None):
-            time.sleep(0.02)
-        assert marker in self.err, self.err.decode(errors="replace")
-
-    def interrupt(self):
-        os.kill(self.p.pid, signal.SIGINT)
+        super().__init__(CMD + list(args), env=env, cwd=cwd)
 
     def finish(self, timeout):
         """Wait at most `timeout` s; (status, stdout, stderr lines without the bar)."""
-        self.p.wait(timeout=timeout)
-        self.reader.join(timeout=10)
-        out = self.p.stdout.read().decode()
+        status, out, err = super().finish(timeout)
         # The bar rewrites its line with \r: keep what follows the last one.
-        lines = [line.rsplit("\r", 1)[-1].strip()
-                 for line in self.err.decode(errors="replace").split("\n")]
-        return self.p.returncode, out, [line for line in lines if line]
+        lines = [line.rsplit("\r", 1)[-1].strip() for line in err.split("\n")]
+        return status, out, [line for line in lines if line]
 
 
 # -- passes sized by time ------------------------------------------------------
