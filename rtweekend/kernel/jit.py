@@ -22,6 +22,9 @@ FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
 # (jit_inline) is compiled with its caller's model, so a test calling it from a
 # plain @njit gets Python's; such helpers guard their own divisions.
 _OPTIONS = dict(cache=True, fastmath=FASTMATH, error_model="numpy")
+# A function compiled on its own and called from compiled code only: no
+# reference counting (its callers hold the arrays), no wrappers for Python.
+_ALONE = dict(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True, **_OPTIONS)
 
 
 PACKAGE = Path(__file__).resolve().parent.parent
@@ -88,8 +91,7 @@ def jit_leaf(fn):
     every caller (Numba-level inlining costs compile time), and no atomic count
     updates on its array argument.  Called from compiled code only (no wrapper
     for Python is built)."""
-    return njit(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True,
-                **_OPTIONS)(fn)
+    return njit(**_ALONE)(fn)
 
 
 def jit_row(fn):
@@ -104,8 +106,7 @@ def jit_row(fn):
     Numba option that is not public API; a function that allocates fails to
     compile, loudly).  Called from the kernel only: no wrapper for Python.
     """
-    return njit(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True,
-                **_OPTIONS)(fn)
+    return njit(**_ALONE)(fn)
 
 
 def jit_apart(fn):
@@ -114,8 +115,7 @@ def jit_apart(fn):
     inlined copy would carry another copy of the dispatch on every primitive kind
     (seconds of compile) and which runs rarely enough for a call to cost nothing
     measurable (path/nee.py)."""
-    return njit(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True,
-                **_OPTIONS)(fn)
+    return njit(**_ALONE)(fn)
 
 
 def jit_parallel(fn):
