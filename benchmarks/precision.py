@@ -44,7 +44,7 @@ def nearest(scene, orig, dirs, from_obj, inf, hits):
     for r in range(orig.shape[0]):
         o = (orig[r, 0], orig[r, 1], orig[r, 2])
         d = (dirs[r, 0], dirs[r, 1], dirs[r, 2])
-        hits[r], _ = closest_hit(scene, o, d, inf, from_obj[r], False)
+        hits[r], _ = closest_hit(scene, o, d, inf, from_obj[r], False, None)
     return hits
 
 
@@ -62,10 +62,10 @@ def _rays(scene, params, seed):
         state = rng.seed_state(pixel, 0, seed)
         o, d, state = get_ray(params.cam, pixel % width, pixel // width, width, height, state)
         orig[pixel], dirs[pixel] = o, d
-        k, t = closest_hit(scene, o, d, np.inf, NO_HIT, False)
+        k, t = closest_hit(scene, o, d, np.inf, NO_HIT, False, None)
         if k != NO_HIT:
             p = madd(o, d, t)
-            _, normal = face_normal(d, shapes.outward_normal(scene, k, p))
+            _, normal = face_normal(d, shapes.outward_normal(scene, k, p, None))
             bounce, state = pdf.cosine_generate(normal, state)
             orig[m], dirs[m], left[m] = p, bounce, k
             m += 1

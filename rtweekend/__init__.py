@@ -20,8 +20,9 @@ from .path.renderer import Renderer
 from .result import RenderResult, RenderStats
 from .version import version as _version
 from .scene import (SKY, Camera, ClassicCamera, Scene, ambient, box, bundled_scenes,
-                    dielectric, diffuse_light, directional, lambertian, load_scene, metal,
-                    phong, point, sphere, xy_rect, xz_rect, yz_rect)
+                    checker_texture, constant_medium, dielectric, diffuse_light, directional,
+                    image_texture, isotropic, lambertian, load_scene, metal, noise_texture,
+                    phong, point, quad, solid_color, sphere, xy_rect, xz_rect, yz_rect)
 
 __version__ = _version()
 
@@ -29,6 +30,7 @@ __all__ = [
     "SceneError", "load_scene", "bundled_scenes", "save_image",
     "render", "Renderer", "RenderResult", "RenderStats", "Scene", "Camera", "SKY",
     "lambertian", "metal", "dielectric", "diffuse_light",
-    "sphere", "xy_rect", "xz_rect", "yz_rect", "box",
+    "sphere", "xy_rect", "xz_rect", "yz_rect", "box", "quad", "constant_medium", "isotropic",
+    "solid_color", "checker_texture", "noise_texture", "image_texture",
     "phong", "ambient", "point", "directional", "ClassicCamera",
 ]

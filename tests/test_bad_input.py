@@ -140,6 +140,55 @@ BAD_SCENES = [
     (_edit('radius = 1', 'radius = 0'), ["sphere 'ball'", "radius: must not be 0"]),
     (_edit('x1 = 1', 'x1 = -1'), ["xz_rect 'lamp'", "x1: must be greater than x0"]),
     (_edit('p1 = [3, 1, 1]', 'p1 = [2, 0, 0]'), ["box 'crate'", "p1:", "no volume"]),
+    # The Next Week: textures, media, motion, quads.
+    (_edit('[0.7, 0.7, 0.7]', '{ type = "checker_texture", even = [1, 1, 1] }'),
+     ["materials.white (lambertian) albedo (checker_texture)", "odd: missing"]),
+    (_edit('[0.7, 0.7, 0.7]', '{ type = "noise_texture", style = "wood" }'),
+     ["materials.white (lambertian) albedo (noise_texture)", "style: expected one of",
+      "'wood'"]),
+    (_edit('[0.7, 0.7, 0.7]', '{ type = "noise_texture", scale = -1 }'),
+     ["albedo (noise_texture)", "scale: must be > 0"]),
+    (_edit('[0.7, 0.7, 0.7]', '{ type = "image_texture", file = "nope.png" }'),
+     ["albedo (image_texture)", "file: no such image", "nope.png"]),
+    (_edit('[0.7, 0.7, 0.7]', '{ type = "plaid" }'),
+     ["materials.white (lambertian) albedo", "'plaid' is not a texture type",
+      "checker_texture"]),
+    (_edit('[0.7, 0.7, 0.7]', '{ type = "checker_texture", even = [1, 1, 1], '
+           'odd = [2, 0, 0] }'), ["materials.white", "albedo", "must be <= 1"]),
+    (_edit('[materials]', '[textures]\nmarble = { type = "noise_texture" }\n\n[materials]')
+     .replace('[0.7, 0.7, 0.7]', '"marbel"'),
+     ["materials.white (lambertian)", "no texture named 'marbel'", "did you mean 'marble'"]),
+    (_edit('radius = 1', 'radius = 1\ncenter1 = [0, "up", 0]'),
+     ["sphere 'ball'", "center1: expected a number"]),
+    (_edit('type = "box"', 'type = "quad"\nQ = [0, 0, 0]\nu = [1, 0, 0]\nv = [2, 0, 0]')
+     .replace('p0 = [2, 0, 0]\np1 = [3, 1, 1]\n', ''),
+     ["objects[2] (quad 'crate')", "v:", "parallel to u"]),
+    (_edit('type = "box"\np0 = [2, 0, 0]\np1 = [3, 1, 1]\nmaterial = "white"',
+           'type = "constant_medium"\ndensity = -1\nalbedo = [1, 1, 1]\n'
+           'boundary = { type = "box", p0 = [2, 0, 0], p1 = [3, 1, 1] }'),
+     ["objects[2] (constant_medium 'crate')", "density: must be >= 0"]),
+    (_edit('type = "box"\np0 = [2, 0, 0]\np1 = [3, 1, 1]\nmaterial = "white"',
+           'type = "constant_medium"\ndensity = 1\nalbedo = [1, 1, 1]\n'
+           'boundary = { type = "xy_rect", x0 = 0, x1 = 1, y0 = 0, y1 = 1, k = 0 }'),
+     ["objects[2] (constant_medium 'crate')", "boundary: must be a sphere or a box"]),
+    (_edit('type = "box"\np0 = [2, 0, 0]\np1 = [3, 1, 1]\nmaterial = "white"',
+           'type = "constant_medium"\ndensity = 1\nalbedo = [1, 1, 1]\n'
+           'boundary = { type = "box", p0 = [2, 0, 0], p1 = [3, 1, 1], material = "white" }'),
+     ["objects[2] (constant_medium 'crate') boundary", "material: a medium's boundary is "
+      "invisible"]),
+    (_edit('type = "box"\np0 = [2, 0, 0]\np1 = [3, 1, 1]\nmaterial = "white"',
+           'type = "constant_medium"\ndensity = 1\nalbedo = [1, 1, 1]\n'
+           'boundary = { type = "box", p0 = [2, 0, 0], p1 = [2, 1, 1] }'),
+     ["objects[2] (constant_medium 'crate') boundary (box)", "p1:", "no volume"]),
+    (_edit('type = "box"\np0 = [2, 0, 0]\np1 = [3, 1, 1]\nmaterial = "white"',
+           'type = "constant_medium"\nalbedo = [1, 1, 1]\n'
+           'boundary = { type = "box", p0 = [2, 0, 0], p1 = [3, 1, 1] }'),
+     ["objects[2] (constant_medium 'crate')", "density: missing"]),
+    (_edit('lights = ["lamp"]', 'lights = ["lamp", "crate"]')
+     .replace('type = "box"\np0 = [2, 0, 0]\np1 = [3, 1, 1]\nmaterial = "white"',
+              'type = "constant_medium"\ndensity = 1\nalbedo = [1, 1, 1]\n'
+              'boundary = { type = "box", p0 = [2, 0, 0], p1 = [3, 1, 1] }'),
+     ["lights: constant_medium 'crate' is a medium"]),
 ]
 
 

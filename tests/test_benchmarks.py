@@ -130,7 +130,7 @@ def test_precision_probe_is_the_renderers_search_in_true_float32():
     a, o, d, left = precision.rays_for(rt.load_scene("cornell_glass"), 24, 24, seed=3)
     hits = precision.nearest(*precision.arguments(a, np.float64, o, d, left))
     for r in range(0, len(o), 5):
-        k, _ = closest_hit(a, tuple(o[r]), tuple(d[r]), np.inf, left[r], False)
+        k, _ = closest_hit(a, tuple(o[r]), tuple(d[r]), np.inf, left[r], False, None)
         assert k == hits[r], r
     assert (hits != precision.NO_HIT).sum() > len(o) // 2
     precision.nearest(*precision.arguments(a, np.float32, o, d, left))

@@ -32,11 +32,11 @@ def arrays(*shapes, bvh=False):
 def hit(a, o, d, t_max=INF, from_obj=NO_HIT, from_inside=False):
     d = tuple(np.asarray(d, dtype=float) / np.linalg.norm(d))
     o = tuple(float(c) for c in o)
-    k, t = closest_hit(a, o, d, t_max, from_obj, from_inside)
+    k, t = closest_hit(a, o, d, t_max, from_obj, from_inside, None)
     if k == NO_HIT:
         return None
     p = tuple(np.add(o, np.multiply(t, d)))
-    n_out = shapes.outward_normal(a, k, p)
+    n_out = shapes.outward_normal(a, k, p, None)
     front, n = face_normal(d, n_out)
     return dict(k=k, t=t, p=np.array(p), n_out=np.array(n_out), front=front, n=np.array(n))
 
@@ -173,7 +173,7 @@ def test_leaving_a_surface_never_hits_it_again(bvh):
     # Entering the sphere at its bottom: the far side at the chord length.
     p = (0.0, 4.0, 0.0)
     d = np.array([0.3, 1.0, 0.0]) / np.linalg.norm([0.3, 1.0, 0.0])
-    assert shapes.enters(a, 1, shapes.outward_normal(a, 1, p), tuple(d))
+    assert shapes.enters(a, 1, shapes.outward_normal(a, 1, p, None), tuple(d))
     h = hit(a, p, d, from_obj=1, from_inside=True)
     chord = 2 * 1.0 * d[1]                    # 2 r cos(angle to the normal)
     assert h["k"] == 1 and h["t"] == pytest.approx(chord, rel=1e-12)

@@ -8,7 +8,7 @@ import pytest
 from conftest import REPO
 
 from rtweekend.path import layout, shapes
-from rtweekend.scene.materials import CLASSIC_MATERIALS, MATERIALS
+from rtweekend.scene.materials import CLASSIC_MATERIALS, MATERIALS, MEDIUM_MATERIALS
 
 # The sources in this checkout (the tests may run against an installed copy).
 PACKAGE = REPO / "rtweekend"
@@ -53,10 +53,10 @@ def test_every_primitive_kind_has_its_module_and_every_operation():
     assert set(shapes.MODULES) == set(layout.PRIMITIVE_KINDS)
     for module in shapes.MODULES.values():
         for op in ("distance", "outward_normal", "enters", "sample_toward", "pdf_toward",
-                   "bounds", "pack"):
+                   "uv", "bounds", "pack"):
             assert callable(getattr(module, op, None)), f"{module.__name__} lacks {op}"
         assert module.FLOATS <= layout.OBJ_FLOATS
-    for op in ("distance", "outward_normal", "enters", "sample_toward", "pdf_toward"):
+    for op in ("distance", "outward_normal", "enters", "sample_toward", "pdf_toward", "uv"):
         body = inspect.getsource(getattr(shapes, op).py_func)
         for module in shapes.MODULES.values():
             assert f"{module.__name__.rsplit('.', 1)[1]}.{op}(" in body, \
@@ -64,7 +64,7 @@ def test_every_primitive_kind_has_its_module_and_every_operation():
 
 
 def test_every_path_material_has_a_tag():
-    path_materials = set(MATERIALS) - set(CLASSIC_MATERIALS)
+    path_materials = set(MATERIALS) - set(CLASSIC_MATERIALS) | set(MEDIUM_MATERIALS)
     assert set(layout.MATERIAL_TAGS) == path_materials
 
 

@@ -27,15 +27,16 @@ def _weights(scene, k, points, n, light_weight, seed):
     state = rng.seed_state(0, 0, seed)
     for i in range(points.shape[0]):
         p = (points[i, 0], points[i, 1], points[i, 2])
-        e, w, inside, t, c, state = nee.shadow_ray(scene, k, p, n, n, light_weight, state)
+        e, w, inside, t, c, state = nee.shadow_ray(scene, k, p, n, n, light_weight, state,
+                                                   None, None)
         if e == NO_HIT:
             continue
         cosine = n[0] * w[0] + n[1] * w[1] + n[2] * w[2]
-        p_e = nee.emitter_pdf(scene, e, p, w, k, inside)
+        p_e = nee.emitter_pdf(scene, e, p, w, k, inside, None)
         radiance = scene.mat_f[scene.obj_i[e, OBJ_MAT], 0]
         out[i, 0] = c[0] / (radiance * cosine / math.pi / p_e)
-        p_c = nee.continuation_pdf(scene, p, n, light_weight, w, k, inside)
-        out[i, 1] = nee.power_heuristic(p_c, nee.emitter_pdf(scene, e, p, w, k, inside))
+        p_c = nee.continuation_pdf(scene, p, n, light_weight, w, k, inside, None)
+        out[i, 1] = nee.power_heuristic(p_c, nee.emitter_pdf(scene, e, p, w, k, inside, None))
     return out
 
 

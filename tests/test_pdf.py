@@ -28,7 +28,7 @@ COS_BINS, PHI_BINS, SUB = 24, 48, 32
 def _generate(a, p, n, w, count, seed):
     out = np.empty((count, 3))
     for i in range(count):
-        d, _ = pdf.mixture_generate(a, p, n, w, seed_state(i, 0, seed))
+        d, _ = pdf.mixture_generate(a, p, n, w, seed_state(i, 0, seed), None)
         out[i, 0], out[i, 1], out[i, 2] = d
     return out
 
@@ -38,7 +38,7 @@ def _value(a, p, n, w, dirs):
     out = np.empty(dirs.shape[0])
     for i in range(dirs.shape[0]):
         d = (dirs[i, 0], dirs[i, 1], dirs[i, 2])
-        out[i] = pdf.mixture_value(a, p, n, w, d, NO_HIT, False)
+        out[i] = pdf.mixture_value(a, p, n, w, d, NO_HIT, False, None)
     return out
 
 
@@ -141,23 +141,23 @@ def test_light_pdf_closed_forms():
     cos_max = math.sqrt(1 - 1.5 ** 2 / 3 ** 2)
     for d in [(0.0, 0.0, 1.0), (0.3, 0.1, 1.0)]:
         d = tuple(np.asarray(d) / np.linalg.norm(d))
-        assert pdf.lights_value(a, p, d, NO_HIT, False) == \
+        assert pdf.lights_value(a, p, d, NO_HIT, False, None) == \
             pytest.approx(1 / (2 * math.pi * (1 - cos_max)), rel=1e-12)
     # Far away the same formula, without cancellation: ~ 1 / (pi (r/d)^2).
     a, p, n, w = _case([rt.sphere((0, 0, 1e6), 1.0, MAT)], 1.0)
-    assert pdf.lights_value(a, p, (0.0, 0.0, 1.0), NO_HIT, False) == \
+    assert pdf.lights_value(a, p, (0.0, 0.0, 1.0), NO_HIT, False, None) == \
         pytest.approx(1e12 / math.pi, rel=1e-6)
     # Rect of area A at distance h, straight above: h^2 / (cos A); at 45 degrees
     # the distance is h sqrt 2 and the cosine 1/sqrt 2.
     a, p, n, w = _case([rt.xz_rect(-2, 2, -1, 1, 1.5, MAT)], 1.0)
-    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False) == \
+    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False, None) == \
         pytest.approx(1.5 ** 2 / 8, rel=1e-12)
     d = (math.sqrt(0.5), math.sqrt(0.5), 0.0)
-    assert pdf.lights_value(a, p, d, NO_HIT, False) == \
+    assert pdf.lights_value(a, p, d, NO_HIT, False, None) == \
         pytest.approx((1.5 * math.sqrt(2)) ** 2 / (math.sqrt(0.5) * 8), rel=1e-12)
     # Inside a sphere light every direction hits it: uniform, 1 / (4 pi).
     a, p, n, w = _case([rt.sphere((0.2, 0, 0), 1.0, MAT)], 1.0)
-    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False) == \
+    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False, None) == \
         pytest.approx(1 / (4 * math.pi))
 
 
@@ -167,4 +167,4 @@ def test_light_pdf_is_zero_off_the_light_and_from_the_light_itself():
     assert (_value(a, p, n, 1.0, miss) == 0).all()
     # From a point on the light rect, no direction reaches it: density 0.
     assert pdf.lights_value(a, (0.0, 0.0, 1.0), (0.0, 0.0, 1.0),
-                            0, False) == 0.0
+                            0, False, None) == 0.0

@@ -44,7 +44,7 @@ def profile_rows(film, scene, params, s0, s1, prof):
                 from_inside = False
                 for depth in range(params.max_depth):
                     c0 = cycles()
-                    k, t = closest_hit(scene, o, d, INF, from_obj, from_inside)
+                    k, t = closest_hit(scene, o, d, INF, from_obj, from_inside, None)
                     prof[0] += cycles() - c0
                     if k == NO_HIT:
                         e = background(scene, d)
@@ -53,10 +53,10 @@ def profile_rows(film, scene, params, s0, s1, prof):
                         lb += tb * e[2]
                         break
                     p = madd(o, d, t)
-                    n_out = shapes.outward_normal(scene, k, p)
+                    n_out = shapes.outward_normal(scene, k, p, None)
                     front_face, n = face_normal(d, n_out)
                     m = scene.obj_i[k, OBJ_MAT]
-                    emits, e = materials.emitted(scene, m, front_face)
+                    emits, e = materials.emitted(scene, m, front_face, materials.color(scene, m))
                     if emits:
                         lr += tr * e[0]
                         lg += tg * e[1]
@@ -64,14 +64,14 @@ def profile_rows(film, scene, params, s0, s1, prof):
                         if depth == 0:
                             er, eg, eb = e[0], e[1], e[2]
                     scatters, specular, d_out, att, state = materials.scatter(
-                        scene, m, d, n, front_face, state)
+                        scene, m, d, n, front_face, materials.color(scene, m), state)
                     if not scatters:
                         break
                     if specular:
                         d = d_out
                     elif use_lights:
                         d, state = pdf.mixture_generate(scene, p, n, params.light_weight,
-                                                        state)
+                                                        state, None)
                     else:
                         d, state = pdf.cosine_generate(n, state)
                     from_inside = shapes.enters(scene, k, n_out, d)
@@ -81,7 +81,7 @@ def profile_rows(film, scene, params, s0, s1, prof):
                         tb *= att[2]
                     else:
                         density = pdf.mixture_value(scene, p, n, params.light_weight, d, k,
-                                                    from_inside)
+                                                    from_inside, None)
                         scattering = pdf.cosine_value(n, d)
                         if scattering <= 0.0 or density <= 0.0:
                             break

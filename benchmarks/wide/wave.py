@@ -74,7 +74,7 @@ def per_ray_bvh(n, scene, ox, oy, oz, dx, dy, dz, frm, fin, t, hit):
         if t[i] == 0.0:
             continue
         k, tt = closest_hit(scene, (ox[i], oy[i], oz[i]), (dx[i], dy[i], dz[i]), INF,
-                            frm[i], fin[i] != 0)
+                            frm[i], fin[i] != 0, None)
         t[i] = tt
         hit[i] = k
 
@@ -130,7 +130,7 @@ def surface(n, scene, f, g, rad, counts):
             continue
         t = f[T, i]
         q = (f[OX, i] + t * d[0], f[OY, i] + t * d[1], f[OZ, i] + t * d[2])
-        n_out = shapes.outward_normal(scene, k, q)
+        n_out = shapes.outward_normal(scene, k, q, None)
         front = dot(d, n_out) < 0.0
         m = scene.obj_i[k, OBJ_MAT]
         kind = scene.mat_i[m]
@@ -196,13 +196,13 @@ def shade_lambertian(j0, j1, scene, light_weight, f, g, u):
         n_out = (s * nn[0], s * nn[1], s * nn[2])
         state = u[j]
         if use_lights:
-            d, state = pdf.mixture_generate(scene, p, nn, light_weight, state)
+            d, state = pdf.mixture_generate(scene, p, nn, light_weight, state, None)
         else:
             d, state = pdf.cosine_generate(nn, state)
         inside = shapes.enters(scene, k, n_out, d)
         w = 1.0
         if use_lights:
-            density = pdf.mixture_value(scene, p, nn, light_weight, d, k, inside)
+            density = pdf.mixture_value(scene, p, nn, light_weight, d, k, inside, None)
             scattering = pdf.cosine_value(nn, d)
             if scattering <= 0.0 or density <= 0.0:
                 g[ALIVE, j] = 0
@@ -227,7 +227,8 @@ def shade_specular(j0, j1, scene, f, g, u):
         front = g[FRONT, j] != 0
         s = 1.0 if front else -1.0
         n_out = (s * nn[0], s * nn[1], s * nn[2])
-        scatters, specular, d_out, att, state = materials.scatter(scene, m, d, nn, front, u[j])
+        scatters, specular, d_out, att, state = materials.scatter(scene, m, d, nn, front,
+                                                                   materials.color(scene, m), u[j])
         if not scatters:
             g[ALIVE, j] = 0            # fuzzed under the surface: absorbed
         f[DX, j], f[DY, j], f[DZ, j] = d_out
@@ -263,21 +264,22 @@ def bounce(n, scene, light_weight, f, g, u, rad, f2, g2, u2):
             continue
         t = f[T, i]
         q = (f[OX, i] + t * d[0], f[OY, i] + t * d[1], f[OZ, i] + t * d[2])
-        n_out = shapes.outward_normal(scene, k, q)
+        n_out = shapes.outward_normal(scene, k, q, None)
         front, nn = face_normal(d, n_out)
         m = scene.obj_i[k, OBJ_MAT]
-        emits, e = materials.emitted(scene, m, front)
+        emits, e = materials.emitted(scene, m, front, materials.color(scene, m))
         if emits:
             rad[p, 0] += tr * e[0]
             rad[p, 1] += tg * e[1]
             rad[p, 2] += tb * e[2]
-        scatters, specular, d_out, att, state = materials.scatter(scene, m, d, nn, front, u[i])
+        scatters, specular, d_out, att, state = materials.scatter(scene, m, d, nn, front,
+                                                                   materials.color(scene, m), u[i])
         if not scatters:
             continue
         if specular:
             d = d_out
         elif use_lights:
-            d, state = pdf.mixture_generate(scene, q, nn, light_weight, state)
+            d, state = pdf.mixture_generate(scene, q, nn, light_weight, state, None)
         else:
             d, state = pdf.cosine_generate(nn, state)
         inside = shapes.enters(scene, k, n_out, d)
@@ -286,7 +288,7 @@ def bounce(n, scene, light_weight, f, g, u, rad, f2, g2, u2):
             tg *= att[1]
             tb *= att[2]
         else:
-            density = pdf.mixture_value(scene, q, nn, light_weight, d, k, inside)
+            density = pdf.mixture_value(scene, q, nn, light_weight, d, k, inside, None)
             scattering = pdf.cosine_value(nn, d)
             if scattering <= 0.0 or density <= 0.0:
                 continue

@@ -82,8 +82,9 @@ def _sah_split(bounds, centroids, ids):
     return best[1]
 
 
-def build_bvh(obj_i, obj_f):
-    """(bvh_box [M, 6], bvh_node [M, 3] int64, bvh_prims [N] int64)."""
+def build_bvh(obj_i, obj_f, ids=None):
+    """(bvh_box [M, 6], bvh_node [M, 3] int64, bvh_prims [N] int64) over the
+    objects `ids` (None: all; a constant medium's boundary is not searched)."""
     bounds = object_bounds(obj_i, obj_f)
     centroids = 0.5 * (bounds[:, :3] + bounds[:, 3:])
     boxes, nodes, prims = [], [], []
@@ -107,17 +108,18 @@ def build_bvh(obj_i, obj_f):
             build(ids[~left])
         nodes[i][2] = len(nodes)            # miss: the node after this subtree
 
-    build(np.arange(len(obj_i)))
+    build(np.arange(len(obj_i)) if ids is None else np.asarray(ids, dtype=np.int64))
     return (np.array(boxes, dtype=np.float64).reshape(-1, 6),
             np.array(nodes, dtype=np.int64).reshape(-1, 3),
             np.array(prims, dtype=np.int64))
 
 
-def empty_bvh(n_objects):
+def empty_bvh(n_objects, ids=None):
     """No hierarchy: closest_hit tests every object (small scenes).  bvh_prims
-    lists them all, so that both walks read object indices the same way."""
+    lists them all (or `ids`), so that both walks read object indices the same way."""
     return (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64),
-            np.arange(n_objects, dtype=np.int64))
+            np.arange(n_objects, dtype=np.int64) if ids is None
+            else np.asarray(ids, dtype=np.int64))
 
 
 @jit
@@ -142,9 +144,10 @@ def box_entry(bvh_box, i, o, inv_d, t_max):
 
 
 @jit_inline
-def closest_hit(scene, o, d, t_max, from_obj, from_inside):
+def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
     """(object index, t) of the nearest hit before t_max, or (NO_HIT, inf), for a
-    ray leaving object from_obj (NO_HIT: none; from_inside: into its ball).
+    ray leaving object from_obj (NO_HIT: none; from_inside: into its ball), at
+    `time` on the shutter (None: nothing moves).
 
     With an empty BVH every object is tested; otherwise the stackless walk
     described above.
@@ -161,7 +164,7 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside):
     i = 0
     while i < n_nodes:
         if no_bvh:
-            first, count, after = 0, scene.obj_i.shape[0], 1
+            first, count, after = 0, bvh_prims.shape[0], 1
         elif box_entry(bvh_box, i, o, inv_d, t_max):
             count = bvh_node[i, 1]
             if count == 0:
@@ -175,7 +178,7 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside):
             # An object index is >= 0: saying so spares every array access the
             # test for a negative index (Python's a[-1]).
             k = bvh_prims[j] & NON_NEGATIVE
-            t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside)
+            t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time)
             if t < t_max:
                 t_max = t
                 best = k

@@ -13,6 +13,14 @@ aims a shadow ray at one emitter, traced by the same nearest-hit call before
 the path goes on, and an emitter the path hits after a diffuse bounce counts
 with its MIS weight; paths end by Russian roulette from segment `events` on.
 Shadow rays count as rays in the statistics, not as path segments of max_depth.
+
+The Next Week's features reach the kernel the same way, each as an argument
+that is None when the scene does not use it, so that the kernel compiled for
+a scene without them has none of their code (Numba prunes `is None` tests on
+arguments): `textures` (textures.py: colours looked up at the hit), `media`
+(media.py: where a ray scatters inside a constant medium before it reaches
+the surface it would hit), `motion` (spheres that move: each camera sample
+draws a time on the shutter, and every segment of its path keeps it).
 """
 import numpy as np
 
@@ -20,7 +28,8 @@ from ..kernel import rng, sobol
 from ..kernel.jit import jit, jit_inline, jit_row
 from ..kernel.vec3 import dot, madd
 from . import film as films
-from . import materials, nee, pdf, shapes
+from . import materials, media as volumes, nee, pdf, shapes
+from . import textures as texturing
 from .bvh import INF, closest_hit
 from .camera import get_ray, get_ray_at
 from .film import SEGMENTS
@@ -45,8 +54,17 @@ def face_normal(d, n_out):
     return False, (-n_out[0], -n_out[1], -n_out[2])
 
 
+@jit
+def roulette(tr, tg, tb, state):
+    """Russian roulette: (survives, throughput, state); a path goes on with
+    probability q = its largest channel (at most 1), divided by q (unbiased)."""
+    q = min(1.0, max(tr, tg, tb))
+    u, state = rng.uniform(state)
+    return u < q, tr / q, tg / q, tb / q, state
+
+
 @jit_row
-def render_row(y, film, scene, params, s0, s1, events, quasi):
+def render_row(y, film, scene, params, s0, s1, events, quasi, textures, media, motion):
     """Trace samples s0..s1-1 of every pixel of row y into the film.
 
     events: None for the books' estimators; for next-event estimation, the
@@ -56,6 +74,7 @@ def render_row(y, film, scene, params, s0, s1, events, quasi):
     quasi: None, or the position in the pixel (pair 0) and the first diffuse
     bounce's direction (pair 1) come from Sobol points keyed by (pixel, sample
     index, pair, seed) (kernel/sobol.py), pruned the same way.
+    textures, media, motion: The Next Week's features (above), None when unused.
 
     One function per row, called from the prange kernel (kernel.py), so that
     the camera, hit and pdf helpers can be inlined into it (inlined into the
@@ -76,6 +95,10 @@ def render_row(y, film, scene, params, s0, s1, events, quasi):
                                          state)
             else:
                 o, d, state = get_ray(params.cam, x, y, width, params.height, state)
+            if motion is not None:
+                time, state = rng.uniform(state)    # on the shutter, for the whole path
+            else:
+                time = None
             first_diffuse = True            # no diffuse bounce drawn yet (Sobol pair 1)
             # -- the path: radiance (lr, lg, lb) along the camera ray (o, d) --
             lr, lg, lb = 0.0, 0.0, 0.0      # radiance gathered so far
@@ -105,15 +128,42 @@ def render_row(y, film, scene, params, s0, s1, events, quasi):
                     ro, rd, r_inside, r_max = shadow_o, shadow_d, shadow_inside, shadow_t
                 else:
                     ro, rd, r_inside, r_max = o, d, from_inside, INF
-                k, t = closest_hit(scene, ro, rd, r_max, from_obj, r_inside)
+                k, t = closest_hit(scene, ro, rd, r_max, from_obj, r_inside, time)
                 segments += 1
                 if shadow:
                     if k == NO_HIT or k == target:     # nothing before the emitter
+                        if media is not None:
+                            tau = volumes.transmittance(scene, media, ro, rd, r_max, time)
+                            sr, sg, sb = sr * tau, sg * tau, sb * tau
                         lr += sr
                         lg += sg
                         lb += sb
                     target = NO_HIT
                     continue
+                if media is not None:
+                    medium, tm, state = volumes.free_flight(scene, media, o, d, t, time, state)
+                    if medium != NO_HIT:
+                        # Scattered inside a medium, at no surface.
+                        o = madd(o, d, tm)
+                        m = scene.obj_i[medium, OBJ_MAT]
+                        att = materials.color(scene, m)
+                        if textures is not None:
+                            att = texturing.color_at(scene, textures, m, NO_HIT, o, att, time)
+                        d, w, state = volumes.phase_scatter(
+                            scene, o, params.light_weight if use_lights else 0.0, use_lights,
+                            time, state)
+                        tr *= att[0] * w
+                        tg *= att[1] * w
+                        tb *= att[2] * w
+                        from_obj = np.int64(NO_HIT)
+                        from_inside = np.bool_(False)
+                        continuation = 0.0      # next events are not drawn here
+                        depth += 1
+                        alive = depth < params.max_depth and (tr > 0.0 or tg > 0.0 or tb > 0.0)
+                        if events is not None:
+                            if alive and events > 0 and depth >= events:
+                                alive, tr, tg, tb, state = roulette(tr, tg, tb, state)
+                        continue
                 if k == NO_HIT:
                     e = background(scene, d)
                     lr += tr * e[0]
@@ -121,29 +171,32 @@ def render_row(y, film, scene, params, s0, s1, events, quasi):
                     lb += tb * e[2]
                     break
                 p = madd(o, d, t)
-                n_out = shapes.outward_normal(scene, k, p)
+                n_out = shapes.outward_normal(scene, k, p, time)
                 front_face, n = face_normal(d, n_out)
                 m = scene.obj_i[k, OBJ_MAT]
-                emits, e = materials.emitted(scene, m, front_face)
+                color = materials.color(scene, m)
+                if textures is not None:
+                    color = texturing.color_at(scene, textures, m, k, p, color, time)
+                emits, e = materials.emitted(scene, m, front_face, color)
                 if emits:
                     w = 1.0
                     if events is not None:
                         if continuation > 0.0:
                             w = nee.power_heuristic(continuation, nee.emitter_pdf(
-                                scene, k, o, d, from_obj, from_inside))
+                                scene, k, o, d, from_obj, from_inside, time))
                     lr += tr * e[0] * w
                     lg += tg * e[1] * w
                     lb += tb * e[2] * w
                     if depth == 0:
                         er, eg, eb = e[0], e[1], e[2]
                 scatters, specular, d_out, att, state = materials.scatter(
-                    scene, m, d, n, front_face, state)
+                    scene, m, d, n, front_face, color, state)
                 if not scatters:
                     break
                 if events is not None:
                     if not specular:
                         target, shadow_d, shadow_inside, shadow_t, c, state = nee.shadow_ray(
-                            scene, k, p, n, n_out, params.light_weight, state)
+                            scene, k, p, n, n_out, params.light_weight, state, time, textures)
                         shadow_o = p
                         sr, sg, sb = (tr * att[0] * c[0], tg * att[1] * c[1],
                                       tb * att[2] * c[2])
@@ -152,7 +205,7 @@ def render_row(y, film, scene, params, s0, s1, events, quasi):
                     if not specular and first_diffuse:
                         u1, u2 = sobol.sample_2d(pixel, s, 1, params.seed)
                         d, state = pdf.mixture_at(scene, p, n, params.light_weight if
-                                                  use_lights else 0.0, u1, u2, state)
+                                                  use_lights else 0.0, u1, u2, state, time)
                         drawn = True
                         first_diffuse = False
                 if drawn:
@@ -160,7 +213,8 @@ def render_row(y, film, scene, params, s0, s1, events, quasi):
                 elif specular:
                     d = d_out
                 elif use_lights:
-                    d, state = pdf.mixture_generate(scene, p, n, params.light_weight, state)
+                    d, state = pdf.mixture_generate(scene, p, n, params.light_weight, state,
+                                                    time)
                 else:
                     d, state = pdf.cosine_generate(n, state)
                 from_inside = shapes.enters(scene, k, n_out, d)
@@ -179,7 +233,7 @@ def render_row(y, film, scene, params, s0, s1, events, quasi):
                     # Importance-sampling the mixture pdf (or cosine's, whose
                     # density next-event MIS needs).
                     density = nee.continuation_pdf(scene, p, n, params.light_weight, d, k,
-                                                   from_inside)
+                                                   from_inside, time)
                     scattering = pdf.cosine_value(n, d)
                     # A direction below the surface, or one no component can
                     # make, carries no light: stop instead of dividing by zero.
@@ -192,18 +246,11 @@ def render_row(y, film, scene, params, s0, s1, events, quasi):
                         tb *= att[2] * w
                         continuation = density
                 if events is not None:
-                    roulette = alive and events > 0 and depth >= events
+                    spin = alive and events > 0 and depth >= events
                 else:
-                    roulette = False
-                if roulette:
-                    # Russian roulette: go on with probability q, the throughput
-                    # divided by q (unbiased); dim paths end early.
-                    q = min(1.0, max(tr, tg, tb))
-                    u, state = rng.uniform(state)
-                    if u >= q:
-                        alive = False
-                    tr /= q
-                    tg /= q
-                    tb /= q
+                    spin = False
+                if spin:
+                    # Dim paths end early, unbiased.
+                    alive, tr, tg, tb, state = roulette(tr, tg, tb, state)
             films.add_sample(film, y, x, s, lr, lg, lb, params.clamp, er, eg, eb)
     film.row_stats[y, SEGMENTS] += segments

@@ -35,8 +35,9 @@ LAMBERTIAN = 0
 METAL = 1
 DIELECTRIC = 2
 DIFFUSE_LIGHT = 3
+ISOTROPIC = 4        # a constant medium's phase function (media.py): never hit
 MATERIAL_TAGS = {"lambertian": LAMBERTIAN, "metal": METAL, "dielectric": DIELECTRIC,
-                 "diffuse_light": DIFFUSE_LIGHT}
+                 "diffuse_light": DIFFUSE_LIGHT, "isotropic": ISOTROPIC}
 
 # Background kinds.
 BG_COLOR = 0
@@ -55,7 +56,7 @@ OBJ_INTS = 2
 OBJ_FLOATS = 20
 # mat_f
 MAT_COLOR = 0        # 0:3 albedo, or emitted radiance
-MAT_PARAM = 3        # metal: fuzz; dielectric: index of refraction
+MAT_PARAM = 3        # metal: fuzz; dielectric: index of refraction; isotropic: density
 MAT_FLOATS = 4
 
 

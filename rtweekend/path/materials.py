@@ -62,25 +62,33 @@ def dielectric_scatter(d, n, front_face, ior, state):
 
 
 @jit_inline
-def emitted(scene, m, front_face):
-    """(emits, radiance) of material m seen from its front side or not."""
+def color(scene, m):
+    """Material m's colour (albedo or emitted radiance) where it has no texture;
+    a textured one's is looked up at the hit (textures.py)."""
+    f = scene.mat_f
+    return (f[m, MAT_COLOR], f[m, MAT_COLOR + 1], f[m, MAT_COLOR + 2])
+
+
+@jit_inline
+def emitted(scene, m, front_face, color):
+    """(emits, radiance) of material m seen from its front side or not; color:
+    its colour at the hit."""
     if scene.mat_i[m] == DIFFUSE_LIGHT and front_face:
-        f = scene.mat_f
-        return True, (f[m, MAT_COLOR], f[m, MAT_COLOR + 1], f[m, MAT_COLOR + 2])
+        return True, color
     return False, NO_COLOR
 
 
 @jit_inline
-def scatter(scene, m, d, n, front_face, state):
+def scatter(scene, m, d, n, front_face, color, state):
     """(scatters, specular, direction, attenuation, state) at a hit with unit
-    normal n facing the incoming unit direction d.
+    normal n facing the incoming unit direction d; color: the material's colour
+    at the hit (its albedo).
 
     specular: the direction is the one to follow; otherwise the material is
     diffuse (lambertian) and the direction returned is only its normal.
     """
     kind = scene.mat_i[m]
     f = scene.mat_f
-    color = (f[m, MAT_COLOR], f[m, MAT_COLOR + 1], f[m, MAT_COLOR + 2])
     if kind == LAMBERTIAN:
         return True, False, n, color, state
     if kind == METAL:

@@ -27,6 +27,7 @@ from ..kernel import rng
 from ..kernel.jit import jit, jit_apart, jit_inline
 from ..kernel.vec3 import dot, madd
 from . import materials, pdf, shapes
+from . import textures as texturing
 from .bvh import INF
 from .layout import NO_HIT, OBJ_MAT
 
@@ -39,22 +40,23 @@ def power_heuristic(pdf_a, pdf_b):
 
 
 @jit_apart
-def emitter_pdf(scene, k, p, d, from_obj, from_inside):
+def emitter_pdf(scene, k, p, d, from_obj, from_inside, time):
     """Solid-angle density at p of direction d under next-event sampling, for
     the emitter k that d reaches (0 where d misses it)."""
-    return shapes.pdf_toward(scene, k, p, d, from_obj, from_inside) / scene.emitters.shape[0]
+    return shapes.pdf_toward(scene, k, p, d, from_obj, from_inside, time) / \
+        scene.emitters.shape[0]
 
 
 @jit_inline
-def continuation_pdf(scene, p, n, light_weight, d, from_obj, from_inside):
+def continuation_pdf(scene, p, n, light_weight, d, from_obj, from_inside, time):
     """Density of d under the continuation pdf at a diffuse hit."""
     if light_weight > 0.0:
-        return pdf.mixture_value(scene, p, n, light_weight, d, from_obj, from_inside)
+        return pdf.mixture_value(scene, p, n, light_weight, d, from_obj, from_inside, time)
     return pdf.cosine_value(n, d)
 
 
 @jit_apart
-def shadow_ray(scene, k, p, n, n_out, light_weight, state):
+def shadow_ray(scene, k, p, n, n_out, light_weight, state, time, textures):
     """One next-event sample at p on diffuse object k (unit normal n facing the
     incoming ray; outward normal n_out): (emitter, direction, from_inside, t,
     (r, g, b), state).
@@ -69,20 +71,25 @@ def shadow_ray(scene, k, p, n, n_out, light_weight, state):
     emitters = scene.emitters
     u, state = rng.uniform(state)
     e = emitters[min(int(u * emitters.shape[0]), emitters.shape[0] - 1)]
-    w, state = shapes.sample_toward(scene, e, p, state)
+    w, state = shapes.sample_toward(scene, e, p, state, time)
     cosine = dot(n, w)
     inside = shapes.enters(scene, k, n_out, w)
     none = (0.0, 0.0, 0.0)
-    p_e = emitter_pdf(scene, e, p, w, k, inside) if cosine > 0.0 else 0.0
+    p_e = emitter_pdf(scene, e, p, w, k, inside, time) if cosine > 0.0 else 0.0
     if p_e <= 0.0:
         return NO_HIT, w, inside, INF, none, state
-    t = shapes.distance(scene, e, p, w, INF, k, inside)
+    t = shapes.distance(scene, e, p, w, INF, k, inside, time)
     if not t < INF:
         return NO_HIT, w, inside, INF, none, state
-    front = dot(w, shapes.outward_normal(scene, e, madd(p, w, t))) < 0.0
-    emits, radiance = materials.emitted(scene, scene.obj_i[e, OBJ_MAT], front)
+    q = madd(p, w, t)
+    front = dot(w, shapes.outward_normal(scene, e, q, time)) < 0.0
+    m = scene.obj_i[e, OBJ_MAT]
+    color = materials.color(scene, m)
+    if textures is not None:
+        color = texturing.color_at(scene, textures, m, e, q, color, time)
+    emits, radiance = materials.emitted(scene, m, front, color)
     if not emits:
         return NO_HIT, w, inside, INF, none, state
-    p_c = continuation_pdf(scene, p, n, light_weight, w, k, inside)
+    p_c = continuation_pdf(scene, p, n, light_weight, w, k, inside, time)
     c = power_heuristic(p_e, p_c) * cosine * pdf.INV_PI / p_e
     return e, w, inside, t, (radiance[0] * c, radiance[1] * c, radiance[2] * c), state

@@ -8,10 +8,11 @@ import numpy as np
 from ..errors import SceneError
 from ..scene.fields import SKY
 from . import bvh as hierarchy
-from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, MAT_FLOATS, MATERIAL_TAGS,
-                     OBJ_FLOATS, OBJ_INTS, OBJ_MAT, PRIMITIVE_KINDS, RECT, SPHERE, XY_RECT,
-                     XZ_RECT, YZ_RECT, SceneArrays)
+from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS,
+                     MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_MAT, PRIMITIVE_KINDS, RECT,
+                     SPHERE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays)
 from .shapes import axis_rect, box, rect, sphere
+from .textures import pack_textures
 
 
 AXIS_RECTS = {"xy_rect": XY_RECT, "xz_rect": XZ_RECT, "yz_rect": YZ_RECT}
@@ -32,8 +33,14 @@ def primitives(shape):
     if shape.kind == "sphere":
         center, radius = shape.geometry
         sphere.pack(rot @ np.asarray(center) + offset, -radius if shape.flipped else radius,
-                    row)
+                    row, shape.velocity)
         return [(SPHERE, row)]
+    if shape.kind == "quad":
+        q, u, v = (np.asarray(a, dtype=np.float64) for a in shape.geometry)
+        if shape.flipped:
+            u, v = v, u
+        rect.pack(rot @ q + offset, rot @ u, rot @ v, row)
+        return [(RECT, row)]
     if shape.angle % 360.0 == 0.0:
         axis_rect.pack(shape.kind, shape.geometry, offset, shape.flipped, row)
         return [(AXIS_RECTS[shape.kind], row)]
@@ -51,21 +58,40 @@ def pack_background(value):
     return BG_COLOR, np.array(value, dtype=np.float64)
 
 
+def scene_materials(scene):
+    """The scene's distinct materials, in the order of their first object (the
+    rows of mat_i and mat_f), and {id(material): row}."""
+    materials, mat_index = [], {}
+    for shape in scene.objects:
+        if mat_index.setdefault(id(shape.material), len(materials)) == len(materials):
+            materials.append(shape.material)
+    return materials, mat_index
+
+
+def pack_features(scene, arrays):
+    """(textures, media, motion) of The Next Week's features, each None when the
+    scene does not use it (integrator.py): TextureArrays, the media's object
+    indices (int64), and 0 when a sphere moves."""
+    textures = pack_textures(scene_materials(scene)[0])
+    media = np.flatnonzero(arrays.mat_i[arrays.obj_i[:, OBJ_MAT]] == ISOTROPIC)
+    motion = 0 if any(shape.moving for shape in scene.objects) else None
+    return textures, (media.astype(np.int64) if len(media) else None), motion
+
+
 def pack_scene(scene, bvh=None):
     """The SceneArrays of a path-traced Scene (validated here).
 
     bvh: build a hierarchy (True), test every object (False), or decide by the
-    number of primitives (None: from bvh.BVH_MIN_OBJECTS on).
+    number of primitives (None: from bvh.BVH_MIN_OBJECTS on).  A constant
+    medium's boundary is an object (media.py) but not one the search tests.
     """
     scene.check()
     if scene.resolved_integrator() != "path":
         raise SceneError("this scene is rendered by the classic integrator")
-    materials, mat_index = [], {}
+    materials, mat_index = scene_materials(scene)
     obj_i, obj_f, first = [], [], {}
     for shape in scene.objects:
-        m = mat_index.setdefault(id(shape.material), len(materials))
-        if m == len(materials):
-            materials.append(shape.material)
+        m = mat_index[id(shape.material)]
         first[id(shape)] = len(obj_i)
         for kind, row in primitives(shape):
             assert kind in PRIMITIVE_KINDS     # the kernels' dispatch knows no other
@@ -77,9 +103,14 @@ def pack_scene(scene, bvh=None):
     bg_kind, bg = pack_background(scene.resolved_background())
     obj_i = np.array(obj_i, dtype=np.int64).reshape(-1, OBJ_INTS)
     obj_f = np.array(obj_f, dtype=np.float64).reshape(-1, OBJ_FLOATS)
+    surfaces = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] != ISOTROPIC)
+    ids = None if len(surfaces) == len(obj_i) else surfaces
     if bvh is None:
-        bvh = len(obj_i) >= hierarchy.BVH_MIN_OBJECTS
-    tree = hierarchy.build_bvh(obj_i, obj_f) if bvh else hierarchy.empty_bvh(len(obj_i))
+        bvh = len(surfaces) >= hierarchy.BVH_MIN_OBJECTS
+    if bvh and len(surfaces):
+        tree = hierarchy.build_bvh(obj_i, obj_f, ids)
+    else:
+        tree = hierarchy.empty_bvh(len(obj_i), ids)
     emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
     return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights, emitters,
                        bg_kind, bg, *tree)

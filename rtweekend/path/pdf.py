@@ -43,16 +43,16 @@ def cosine_value(n, d):
 # -- all lights, one chosen uniformly (the books' hittable_list pdf) --------------
 
 @jit_inline
-def lights_generate(scene, p, state):
+def lights_generate(scene, p, state, time):
     """A unit direction from p towards one light chosen uniformly."""
     lights = scene.lights
     u, state = rng.uniform(state)
     k = lights[min(int(u * lights.shape[0]), lights.shape[0] - 1)]
-    return shapes.sample_toward(scene, k, p, state)
+    return shapes.sample_toward(scene, k, p, state, time)
 
 
 @jit_inline
-def lights_value(scene, p, d, from_obj, from_inside):
+def lights_value(scene, p, d, from_obj, from_inside, time):
     """Solid-angle density at p of direction d under lights_generate.
 
     Each light's term is 0 when d misses it, so the mixture never divides by a
@@ -61,23 +61,23 @@ def lights_value(scene, p, d, from_obj, from_inside):
     lights = scene.lights
     total = 0.0
     for j in range(lights.shape[0]):
-        total += shapes.pdf_toward(scene, lights[j], p, d, from_obj, from_inside)
+        total += shapes.pdf_toward(scene, lights[j], p, d, from_obj, from_inside, time)
     return total / lights.shape[0]
 
 
 # -- the mixture at a diffuse hit (The Rest of Your Life, chapter "Mixing") -------
 
 @jit_inline
-def mixture_generate(scene, p, n, light_weight, state):
+def mixture_generate(scene, p, n, light_weight, state, time):
     """A unit direction from (1 - w) cosine + w lights (w = light_weight)."""
     u, state = rng.uniform(state)
     if u < light_weight:
-        return lights_generate(scene, p, state)
+        return lights_generate(scene, p, state, time)
     return cosine_generate(n, state)
 
 
 @jit_inline
-def mixture_at(scene, p, n, light_weight, u1, u2, state):
+def mixture_at(scene, p, n, light_weight, u1, u2, state, time):
     """mixture_generate from a 2-D point (u1, u2) (a low-discrepancy one): u1 <
     light_weight picks a light, by u1 / light_weight (its direction from the
     stream); otherwise ((u1 - w) / (1 - w), u2) is the cosine lobe's point, so
@@ -85,13 +85,13 @@ def mixture_at(scene, p, n, light_weight, u1, u2, state):
     if u1 < light_weight:
         lights = scene.lights
         k = lights[min(int(u1 / light_weight * lights.shape[0]), lights.shape[0] - 1)]
-        return shapes.sample_toward(scene, k, p, state)
+        return shapes.sample_toward(scene, k, p, state, time)
     return cosine_at(n, (u1 - light_weight) / (1.0 - light_weight), u2), state
 
 
 @jit_inline
-def mixture_value(scene, p, n, light_weight, d, from_obj, from_inside):
+def mixture_value(scene, p, n, light_weight, d, from_obj, from_inside, time):
     value = (1.0 - light_weight) * cosine_value(n, d)
     if light_weight > 0.0:
-        value += light_weight * lights_value(scene, p, d, from_obj, from_inside)
+        value += light_weight * lights_value(scene, p, d, from_obj, from_inside, time)
     return value

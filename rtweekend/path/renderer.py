@@ -26,7 +26,7 @@ from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
 from .kernel import render_pass
 from .layout import PathParams, SceneArrays
-from .pack import pack_scene
+from .pack import pack_features, pack_scene
 
 
 class Frame(NamedTuple):
@@ -42,6 +42,12 @@ class Frame(NamedTuple):
     # Low-discrepancy samples (integrator.py): None for the independent stream
     # only, else 0 (pruned the same way).
     quasi: int | None = None
+    # The Next Week's features, each None when the scene does not use it (so
+    # a scene pays for none it does not use): textures.TextureArrays, the
+    # media's object indices, 0 when something moves (pack.pack_features).
+    textures: object = None
+    media: object = None
+    motion: int | None = None
 
     @property
     def width(self):
@@ -73,7 +79,7 @@ def freeze(scene, options):
                         clamp=options.clamp_value)
     return Frame(arrays, params, interleaved_rows(camera.height),
                  strategy.roulette_depth if next_event else None,
-                 0 if strategy.sobol else None)
+                 0 if strategy.sobol else None, *pack_features(scene, arrays))
 
 
 def render_samples(frame, film, s0, s1, rows=None):
@@ -81,7 +87,7 @@ def render_samples(frame, film, s0, s1, rows=None):
     frame.rows) to `film`.  A pixel's sums depend on its sample indices only,
     so rows rendered in several parts give the bits of one whole pass."""
     render_pass(film, frame.scene, frame.params, frame.rows if rows is None else rows, s0, s1,
-                frame.events, frame.quasi)
+                frame.events, frame.quasi, frame.textures, frame.media, frame.motion)
 
 
 def block_film(frame, s0, s1):

@@ -15,18 +15,24 @@ from .. import checks
 from ..errors import FieldError, SceneError, label
 from .camera import Camera
 from .classic import LIGHTS, ClassicCamera
-from .materials import MATERIALS
+from .materials import MATERIALS, lambertian
+from .textures import TEXTURES
 from .scene import INTEGRATORS, Scene
-from .shapes import SHAPES
+from .shapes import SHAPES, constant_medium
 
-TOP_KEYS = ("description", "integrator", "lights", "camera", "render", "materials",
-            "objects")
+TOP_KEYS = ("description", "integrator", "lights", "camera", "render", "textures",
+            "materials", "objects")
 PATH_CAMERA_KEYS = ("lookfrom", "lookat", "vup", "vfov", "aperture", "focus_dist")
 CLASSIC_CAMERA_KEYS = ("position", "rotation", "viewport", "d")
 SIZE_KEYS = ("width", "height")
 RENDER_KEYS = ("spp", "max_depth", "background")
 PLACEMENT_KEYS = ("rotate_y", "translate", "flip_face")
 OBJECT_KEYS = ("type", "name", "material") + PLACEMENT_KEYS
+MEDIUM_KEYS = ("type", "name", "boundary", "density", "albedo")
+# Fields of materials that take a colour or a texture (a table, or a name in [textures]).
+TEXTURED_FIELDS = ("albedo", "emit")
+# The material a medium's boundary gets while it is built (never rendered).
+_BOUNDARY_MATERIAL = lambertian((0.0, 0.0, 0.0))
 
 
 def bundled_dir():
@@ -77,14 +83,17 @@ def load_scene(name_or_path):
         doc = tomllib.loads(source)
     except tomllib.TOMLDecodeError as e:
         raise SceneError(f"{where}: TOML syntax error: {e}") from None
-    return scene_from_dict(doc, where=where, name=Path(where).stem)
+    path = Path(where)
+    base = path.parent if path.exists() else Path(str(bundled_dir()))
+    return scene_from_dict(doc, where=where, name=path.stem, base=base)
 
 
-def scene_from_dict(doc, *, where="<scene>", name="scene"):
-    """A Scene from a parsed document (a dict shaped like the TOML file)."""
+def scene_from_dict(doc, *, where="<scene>", name="scene", base=None):
+    """A Scene from a parsed document (a dict shaped like the TOML file); image
+    textures' relative paths are taken from `base` (default: the current folder)."""
     if not isinstance(doc, dict):
         raise SceneError(f"{where}: expected a table at the top level")
-    return _Loader(where).scene(doc, name=name)
+    return _Loader(where, base).scene(doc, name=name)
 
 
 # The books' (and other renderers') names for our fields, for the hint.
@@ -109,8 +118,10 @@ def _unknown(key, allowed):
 
 
 class _Loader:
-    def __init__(self, where):
+    def __init__(self, where, base=None):
         self.where = where
+        self.base = base
+        self.textures = {}
 
     def fail(self, what, message):
         prefix = f"{self.where}: {what}: " if what else f"{self.where}: "
@@ -138,6 +149,8 @@ class _Loader:
                                      f", got '{scene.integrator}'")
         except FieldError as e:
             raise self.fail("", str(e)) from None
+        for tname, spec in self.table(doc.get("textures", {}), "textures").items():
+            self.textures[tname] = self.texture(spec, f"textures.{tname}", tname)
         materials = self.materials(self.table(doc.get("materials", {}), "materials"))
         objects = doc.get("objects", [])
         if not isinstance(objects, list):
@@ -213,8 +226,45 @@ class _Loader:
         if not isinstance(kind, str) or kind not in MATERIALS:
             hint = f"{kind!r} is not a material type" if kind is not None else "missing"
             raise self.fail(what, f"type: {hint}; expected one of: {', '.join(MATERIALS)}")
-        return self.call(MATERIALS[kind], {k: v for k, v in spec.items() if k != "type"},
-                         ("type",), f"{what} ({kind})", name=name)
+        what = f"{what} ({kind})"
+        args = {k: self.colour_or_texture(v, what, k) if k in TEXTURED_FIELDS else v
+                for k, v in spec.items() if k != "type"}
+        return self.call(MATERIALS[kind], args, ("type",), what, name=name)
+
+    def colour_or_texture(self, value, what, field):
+        """A colour field's value: a table is a texture, a string names one."""
+        if isinstance(value, dict):
+            return self.texture(value, f"{what} {field}")
+        if isinstance(value, str):
+            if value not in self.textures:
+                known = (f"; the textures are: {', '.join(self.textures)}" if self.textures
+                         else " (the scene has no [textures])")
+                raise self.fail(what, f"{field}: expected 3 numbers [r, g, b] or a texture, "
+                                f"got '{value}': no texture named '{value}'"
+                                + did_you_mean(value, self.textures) + known)
+            return self.textures[value]
+        return value
+
+    def texture(self, spec, what, name=None):
+        """A texture table: type = solid_color, checker_texture, noise_texture or
+        image_texture; a checker's even and odd are colours or textures too."""
+        spec = self.table(spec, what)
+        kind = spec.get("type")
+        if not isinstance(kind, str) or kind not in TEXTURES:
+            hint = f"{kind!r} is not a texture type" if kind is not None else "missing"
+            raise self.fail(what, f"type: {hint}; expected one of: {', '.join(TEXTURES)}")
+        what = f"{what} ({kind})"
+        args = {k: v for k, v in spec.items() if k != "type"}
+        for k in ("even", "odd"):
+            if kind == "checker_texture" and k in args:
+                args[k] = self.colour_or_texture(args[k], what, k)
+        if kind == "image_texture":       # a relative file is the scene file's neighbour
+            self.check_signature(TEXTURES[kind].raw, args, ("type",), what)
+            try:
+                return TEXTURES[kind].raw(**args, name=name, base=self.base)
+            except FieldError as e:
+                raise self.fail(what, str(e)) from None
+        return self.call(TEXTURES[kind], args, ("type",), what, name=name)
 
     def materials(self, table):
         out = {}
@@ -226,7 +276,8 @@ class _Loader:
         """The table's fields against fn's parameters: none unknown, none missing
         (`name` is the object's own and never a field of fn)."""
         params = [p for p in inspect.signature(fn).parameters.values()
-                  if p.kind is not inspect.Parameter.VAR_KEYWORD and p.name != "name"]
+                  if p.kind is not inspect.Parameter.VAR_KEYWORD
+                  and p.name not in ("name", "base")]
         allowed = [p.name for p in params]
         for key in args:
             if key not in allowed:
@@ -243,21 +294,26 @@ class _Loader:
         except FieldError as e:
             raise self.fail(what, str(e)) from None
 
-    def shape(self, spec, i, materials):
-        what = f"objects[{i}]"
+    def shape(self, spec, i, materials, what=None):
+        what = what or f"objects[{i}]"
         spec = self.table(spec, what)
         kind = spec.get("type")
         name = spec.get("name")
         if name is not None and not isinstance(name, str):
             raise self.fail(what, f"name: expected a string, got {name!r}")
+        if kind == "constant_medium":
+            return self.medium(spec, f"{what} ({label(kind, name)})", name, materials)
         if not isinstance(kind, str) or kind not in SHAPES:
             hint = f"{kind!r} is not an object type" if kind is not None else "missing"
-            raise self.fail(what, f"type: {hint}; expected one of: {', '.join(SHAPES)}")
+            raise self.fail(what, f"type: {hint}; expected one of: "
+                            f"{', '.join([*SHAPES, 'constant_medium'])}")
         what = f"{what} ({label(kind, name)})"
         if "material" not in spec:
             raise self.fail(what, "material: missing (required)")
         mat = spec["material"]
-        if isinstance(mat, str):
+        if mat is _BOUNDARY_MATERIAL:
+            pass
+        elif isinstance(mat, str):
             if mat not in materials:
                 raise self.fail(what, f"material: no material named '{mat}'"
                                 + did_you_mean(mat, materials))
@@ -277,6 +333,27 @@ class _Loader:
         except FieldError as e:
             raise self.fail(what, str(e)) from None
         return shape
+
+    def medium(self, spec, what, name, materials):
+        """A constant_medium: a boundary table (a sphere or a box with its
+        placement, no material needed), density and albedo."""
+        self.check_keys(spec, MEDIUM_KEYS, what)
+        for key in ("boundary", "density", "albedo"):
+            if key not in spec:
+                raise self.fail(what, f"{key}: missing (required)")
+        boundary = dict(self.table(spec["boundary"], f"{what} boundary"))
+        if "material" in boundary:
+            raise self.fail(f"{what} boundary", "material: a medium's boundary is invisible "
+                            "and has no material (give the medium's albedo instead)")
+        if "name" in boundary:
+            raise self.fail(f"{what} boundary", "name: name the constant_medium instead")
+        boundary["material"] = _BOUNDARY_MATERIAL
+        shape = self.shape(boundary, 0, {}, what=f"{what} boundary")
+        albedo = self.colour_or_texture(spec["albedo"], what, "albedo")
+        try:
+            return constant_medium.raw(shape, spec["density"], albedo, name=name)
+        except FieldError as e:
+            raise self.fail(what, str(e)) from None
 
     def lights(self, entries, named, scene):
         """Names of shapes (the path tracer's light pdf) or tables of classic lights."""

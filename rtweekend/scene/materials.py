@@ -10,20 +10,39 @@ from dataclasses import dataclass
 
 from . import fields
 from ..errors import FieldError, checked
+from .textures import Texture, texture_or_color
 
 
 @dataclass(frozen=True, eq=False)
 class Material:
     kind: str             # "lambertian", "metal", ... (the builder's name)
     color: tuple          # albedo, or emitted radiance; phong: 0..255 colour
-    param: float = 0.0    # metal: fuzz; dielectric: ior; phong: specular exponent
+    param: float = 0.0    # metal: fuzz; dielectric: ior; phong: specular exponent;
+                          # isotropic: density
     name: str | None = None
     reflective: float = 0.0   # phong only: the mirror's share, in [0, 1]
+    texture: object = None    # a Texture (textures.py) in place of `color`, or None
+
+    @property
+    def medium(self):
+        """An isotropic medium's material: its shape is a volume's boundary."""
+        return self.kind == "isotropic"
+
+
+def _colour(value, field, hi=None):
+    """(color, texture) of a colour-or-texture field: a texture keeps its mean
+    as the colour (for anything that wants one number per channel)."""
+    value = texture_or_color(value, field, hi=hi)
+    if isinstance(value, Texture):
+        return value.mean(), value
+    return value, None
 
 
 @checked("lambertian")
 def lambertian(albedo, *, name=None):
-    return Material("lambertian", fields.color(albedo, "albedo", hi=1.0), 0.0, name)
+    """albedo: a colour or a texture (textures.py)."""
+    color, texture = _colour(albedo, "albedo", hi=1.0)
+    return Material("lambertian", color, 0.0, name, texture=texture)
 
 
 @checked("metal")
@@ -41,7 +60,19 @@ def dielectric(ior, *, name=None):
 
 @checked("diffuse_light")
 def diffuse_light(emit, *, name=None):
-    return Material("diffuse_light", fields.color(emit, "emit"), 0.0, name)
+    """emit: the radiance of its front side, a colour or a texture."""
+    color, texture = _colour(emit, "emit")
+    return Material("diffuse_light", color, 0.0, name, texture=texture)
+
+
+@checked("isotropic")
+def isotropic(albedo, density=1.0, *, name=None):
+    """The phase function of a constant medium (shapes.constant_medium): it
+    scatters uniformly in all directions, keeping `albedo` (a colour or a
+    texture) of the light; `density` is its extinction per unit length."""
+    color, texture = _colour(albedo, "albedo", hi=1.0)
+    return Material("isotropic", color, fields.number(density, "density", lo=0.0), name,
+                    texture=texture)
 
 
 @checked("phong")
@@ -57,6 +88,8 @@ def phong(color, specular=-1, reflective=0.0, *, name=None):
 
 # The builders by kind, for the loader: the path tracer's, then the classic one.
 MATERIALS = {f.kind: f for f in (lambertian, metal, dielectric, diffuse_light, phong)}
+# Not a surface's: constant_medium (shapes.py) makes it.
+MEDIUM_MATERIALS = {"isotropic": isotropic}
 CLASSIC_MATERIALS = ("phong",)
 
 

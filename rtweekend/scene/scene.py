@@ -125,5 +125,8 @@ class Scene:
         for light in self.lights:
             if isinstance(light, Shape) and not any(light is s for s in self.objects):
                 raise SceneError(f"lights: {light.label} is not among the scene's objects")
+            if isinstance(light, Shape) and light.medium:
+                raise SceneError(f"lights: {light.label} is a medium: its boundary is "
+                                 "invisible, and only surfaces can be sampled as lights")
         if not self.objects:
             raise SceneError("objects: the scene has no objects")

@@ -13,7 +13,7 @@ import numpy as np
 
 from . import fields
 from ..errors import FieldError, SceneError, checked, label
-from .materials import Material, check_material
+from .materials import Material, check_material, isotropic
 
 
 @dataclass(frozen=True, eq=False)
@@ -30,10 +30,22 @@ class Shape:
     offset: tuple = (0.0, 0.0, 0.0)
     flipped: bool = False
     name: str | None = None
+    # Motion blur: how far the shape moves over the shutter (time 0 to 1), in
+    # the world (a sphere's center1 - center, turned with it by rotate_y).
+    velocity: tuple = (0.0, 0.0, 0.0)
+
+    @property
+    def medium(self):
+        """A constant medium's boundary (its material is isotropic)."""
+        return self.material.medium
+
+    @property
+    def moving(self):
+        return any(self.velocity)
 
     @property
     def label(self):
-        return label(self.kind, self.name)
+        return label("constant_medium" if self.medium else self.kind, self.name)
 
     def rotate_y(self, degrees):
         try:
@@ -42,8 +54,10 @@ class Shape:
             raise SceneError(f"{self.label}: {e}") from None
         s, c = math.sin(math.radians(degrees)), math.cos(math.radians(degrees))
         ox, oy, oz = self.offset
+        vx, vy, vz = self.velocity
         return replace(self, angle=self.angle + degrees,
-                       offset=(c * ox + s * oz, oy, -s * ox + c * oz))
+                       offset=(c * ox + s * oz, oy, -s * ox + c * oz),
+                       velocity=(c * vx + s * vz, vy, -s * vx + c * vz))
 
     def translate(self, offset):
         try:
@@ -67,11 +81,18 @@ class Shape:
 
 
 @checked("sphere")
-def sphere(center, radius, material, *, name=None):
-    """A negative radius makes the book-1 hollow bubble (normals point inward)."""
-    return Shape("sphere", (fields.vec3(center, "center"),
-                            fields.length(radius, "radius", signed=True)),
-                 check_material(material), name=name)
+def sphere(center, radius, material, center1=None, *, name=None):
+    """A negative radius makes the book-1 hollow bubble (normals point inward).
+    center1: the centre at the end of the shutter (time 1), for motion blur;
+    the sphere moves in a straight line from `center` (time 0)."""
+    center = fields.vec3(center, "center")
+    velocity = (0.0, 0.0, 0.0)
+    if center1 is not None:
+        velocity = tuple(b - a for a, b in zip(center, fields.vec3(center1, "center1")))
+        if max(map(abs, velocity)) > fields.LARGEST:
+            raise FieldError("center1", "is too far from center")
+    return Shape("sphere", (center, fields.length(radius, "radius", signed=True)),
+                 check_material(material), name=name, velocity=velocity)
 
 
 def _interval(lo, hi, lo_name, hi_name):
@@ -118,4 +139,43 @@ def box(p0, p1, material, *, name=None):
     return Shape("box", (lo, hi), check_material(material), name=name)
 
 
-SHAPES = {f.kind: f for f in (sphere, xy_rect, xz_rect, yz_rect, box)}
+@checked("quad")
+def quad(Q, u, v, material, *, name=None):
+    """The Next Week v4's quadrilateral: the parallelogram with corner Q and edges
+    u and v; its front side is the one u x v points to."""
+    Q, u, v = fields.vec3(Q, "Q"), fields.vec3(u, "u"), fields.vec3(v, "v")
+    n = np.cross(u, v)
+    area = float(np.linalg.norm(n))
+    size = max(float(np.linalg.norm(u)), float(np.linalg.norm(v)))
+    if not area > 0.0 or area <= 1e-12 * size * size:
+        raise FieldError("v", f"{list(v)} is parallel to u {list(u)} (or one is zero): "
+                         "the quad has no area")
+    if min(float(np.linalg.norm(u)), float(np.linalg.norm(v))) < fields.SMALLEST:
+        raise FieldError("v", f"edges shorter than {fields.SMALLEST:g} underflow when "
+                         "squared")
+    return Shape("quad", (Q, u, v), check_material(material), name=name)
+
+
+@checked("constant_medium")
+def constant_medium(boundary, density, albedo, *, name=None):
+    """The Next Week's constant medium: the volume inside `boundary` (a sphere or
+    a box, with any placement; its material is not used) filled with a
+    participating medium of `density` (extinction per unit length) that scatters
+    isotropically, keeping `albedo` (a colour or a texture) of the light.  The
+    boundary itself is invisible."""
+    if not isinstance(boundary, Shape):
+        raise FieldError("boundary", f"expected a sphere or a box, got "
+                         f"{type(boundary).__name__}")
+    if boundary.kind not in MEDIUM_BOUNDARIES:
+        raise FieldError("boundary", f"must be a sphere or a box (a closed convex "
+                         f"surface), got a {boundary.kind}")
+    if boundary.medium:
+        raise FieldError("boundary", "is already a constant_medium")
+    if boundary.kind == "sphere" and boundary.geometry[1] < 0:
+        raise FieldError("boundary", "a sphere with a negative radius has no inside")
+    material = isotropic.raw(albedo, density)
+    return replace(boundary, material=material, name=name or boundary.name, flipped=False)
+
+
+MEDIUM_BOUNDARIES = ("sphere", "box")
+SHAPES = {f.kind: f for f in (sphere, xy_rect, xz_rect, yz_rect, box, quad)}

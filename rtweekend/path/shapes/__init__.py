@@ -9,7 +9,13 @@ for the row k of obj_f it packed:
                                        normal there: n) go inside it?
   sample_toward(obj_f, k, p, state)    a direction from p towards it (as a light)
   pdf_toward(obj_f, k, p, d, from_self, from_inside)   that direction's density
+  uv(obj_f, k, p)                      texture coordinates of a point on it
+  interval(obj_f, k, o, d)             where a line is inside it (closed kinds:
+                                       a constant medium's boundary)
   bounds(row), pack(..., row)          NumPy, for the BVH and pack.py
+
+Spheres can move (motion blur): their functions also take the ray's time,
+which is None in a kernel for a scene where nothing moves (sphere.py).
 
 (axis_rect.py serves three kinds, xy, xz and yz: its functions take the axes.)
 Here each operation is an explicit branch per kind (adding a kind: its module,
@@ -44,7 +50,7 @@ def bounds(kind, row):
 
 
 @jit_inline
-def distance(scene, k, o, d, t_max, from_obj, from_inside):
+def distance(scene, k, o, d, t_max, from_obj, from_inside, time):
     """Distance to object k for a ray leaving object from_obj (NO_HIT: none)."""
     kind = scene.obj_i[k, OBJ_KIND]
     f = scene.obj_f
@@ -56,7 +62,7 @@ def distance(scene, k, o, d, t_max, from_obj, from_inside):
     if kind == XY_RECT:
         return axis_rect.distance(f, k, o, d, t_max, from_self, from_inside, *XY)
     if kind == SPHERE:
-        return sphere.distance(f, k, o, d, t_max, from_self, from_inside)
+        return sphere.distance(f, k, o, d, t_max, from_self, from_inside, time)
     if kind == BOX:
         return box.distance(f, k, o, d, t_max, from_self, from_inside)
     if kind == RECT:
@@ -65,7 +71,7 @@ def distance(scene, k, o, d, t_max, from_obj, from_inside):
 
 
 @jit_inline
-def outward_normal(scene, k, p):
+def outward_normal(scene, k, p, time):
     """Unit normal at p on object k, pointing to its front side."""
     kind = scene.obj_i[k, OBJ_KIND]
     f = scene.obj_f
@@ -76,7 +82,7 @@ def outward_normal(scene, k, p):
     if kind == XY_RECT:
         return axis_rect.outward_normal(f, k, p, XY[2])
     if kind == SPHERE:
-        return sphere.outward_normal(f, k, p)
+        return sphere.outward_normal(f, k, p, time)
     if kind == BOX:
         return box.outward_normal(f, k, p)
     if kind == RECT:
@@ -102,7 +108,7 @@ def enters(scene, k, n, d):
 
 
 @jit_inline
-def sample_toward(scene, k, p, state):
+def sample_toward(scene, k, p, state, time):
     """A unit direction from p towards object k, drawn by its own light sampling."""
     kind = scene.obj_i[k, OBJ_KIND]
     f = scene.obj_f
@@ -113,7 +119,7 @@ def sample_toward(scene, k, p, state):
     if kind == XY_RECT:
         return axis_rect.sample_toward(f, k, p, state, *XY)
     if kind == SPHERE:
-        return sphere.sample_toward(f, k, p, state)
+        return sphere.sample_toward(f, k, p, state, time)
     if kind == BOX:
         return box.sample_toward(f, k, p, state)
     if kind == RECT:
@@ -122,7 +128,7 @@ def sample_toward(scene, k, p, state):
 
 
 @jit_inline
-def pdf_toward(scene, k, p, d, from_obj, from_inside):
+def pdf_toward(scene, k, p, d, from_obj, from_inside, time):
     """Density of d under sample_toward(k) at p; 0 where d misses object k."""
     kind = scene.obj_i[k, OBJ_KIND]
     f = scene.obj_f
@@ -134,9 +140,42 @@ def pdf_toward(scene, k, p, d, from_obj, from_inside):
     if kind == XY_RECT:
         return axis_rect.pdf_toward(f, k, p, d, from_self, from_inside, *XY)
     if kind == SPHERE:
-        return sphere.pdf_toward(f, k, p, d, from_self, from_inside)
+        return sphere.pdf_toward(f, k, p, d, from_self, from_inside, time)
     if kind == BOX:
         return box.pdf_toward(f, k, p, d, from_self, from_inside)
     if kind == RECT:
         return rect.pdf_toward(f, k, p, d, from_self, from_inside)
     return NAN
+
+
+@jit_inline
+def uv(scene, k, p, time):
+    """Texture coordinates (u, v) of the point p on object k."""
+    kind = scene.obj_i[k, OBJ_KIND]
+    f = scene.obj_f
+    if kind == XZ_RECT:
+        return axis_rect.uv(f, k, p, XZ[0], XZ[1])
+    if kind == YZ_RECT:
+        return axis_rect.uv(f, k, p, YZ[0], YZ[1])
+    if kind == XY_RECT:
+        return axis_rect.uv(f, k, p, XY[0], XY[1])
+    if kind == SPHERE:
+        return sphere.uv(f, k, p, time)
+    if kind == BOX:
+        return box.uv(f, k, p)
+    if kind == RECT:
+        return rect.uv(f, k, p)
+    return (NAN, NAN)
+
+
+@jit_inline
+def interval(scene, k, o, d, time):
+    """(t0, t1) where the line o + t d is inside closed object k (a sphere or a
+    box: a constant medium's boundary); t0 > t1 if never."""
+    kind = scene.obj_i[k, OBJ_KIND]
+    f = scene.obj_f
+    if kind == SPHERE:
+        return sphere.interval(f, k, o, d, time)
+    if kind == BOX:
+        return box.interval(f, k, o, d)
+    return (NAN, NAN)

@@ -82,6 +82,13 @@ def outward_normal(obj_f, k, p, n):
 
 
 @jit_leaf
+def uv(obj_f, k, p, a, b):
+    """The book's texture coordinates: p's fractions of the two extents."""
+    return ((p[a] - obj_f[k, A0]) / (obj_f[k, A1] - obj_f[k, A0]),
+            (p[b] - obj_f[k, B0]) / (obj_f[k, B1] - obj_f[k, B0]))
+
+
+@jit_leaf
 def enters(obj_f, k, n, d):
     return False
 

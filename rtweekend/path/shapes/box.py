@@ -144,6 +144,23 @@ def _face_normal(obj_f, k, p):
 
 
 @jit_leaf
+def uv(obj_f, k, p):
+    """Texture coordinates on the face p is on: its fractions of the face's two
+    edges, in the box's frame (x then y, or x then z, or y then z)."""
+    lp = _local_point(obj_f, k, p)
+    n = _face_normal(obj_f, k, p)
+    a, b = (1, 2) if n[0] != 0.0 else (0, 2) if n[1] != 0.0 else (0, 1)
+    return ((lp[a] - obj_f[k, LO + a]) / (obj_f[k, HI + a] - obj_f[k, LO + a]),
+            (lp[b] - obj_f[k, LO + b]) / (obj_f[k, HI + b] - obj_f[k, LO + b]))
+
+
+@jit_leaf
+def interval(obj_f, k, o, d):
+    """(t0, t1): where the line o + t d is inside the box (t0 > t1: never)."""
+    return slabs(obj_f, k, o, d)
+
+
+@jit_leaf
 def _world_direction(obj_f, k, v):
     c, s = obj_f[k, COS], obj_f[k, SIN]
     return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])

@@ -1,11 +1,14 @@
-"""The rectangle: any parallelogram with perpendicular edges, placed in the world.
+"""The rectangle: any parallelogram, placed in the world.
 
-The books' xy/xz/yz rects, the six faces of a box and rotated rects are all
-this kind, with rotate_y + translate already applied.
+The books' xy/xz/yz rects when turned by rotate_y, and The Next Week v4's quads
+(corner Q, edges u and v, not necessarily perpendicular), with rotate_y +
+translate already applied.
 
 Row of obj_f: corner Q (0:3), edges U (3:6) and V (6:9), unit normal N (9:12),
-plane offset PLANE = N.Q (12), the dual edges U_DUAL = u/|u|^2 (13:16) and
-V_DUAL = v/|v|^2 (16:19) that give a hit's (alpha, beta) on the edges, AREA (19).
+plane offset PLANE = N.Q (12), the dual edges U_DUAL (13:16) and V_DUAL
+(16:19) that give a hit's (alpha, beta) on the edges, p - Q = alpha u + beta v,
+as dot products (u/|u|^2 and v/|v|^2 when the edges are perpendicular), AREA (19).
+(alpha, beta) is also its texture coordinate (u, v).
 Its outward normal is unit(u x v); flip_face swaps u and v.
 
 A plane is never hit again by a ray leaving it, so `distance` needs no epsilon.
@@ -53,7 +56,12 @@ def pack(q, u, v, row):
     n = n / area
     row[Q:Q + 3], row[U:U + 3], row[V:V + 3], row[N:N + 3] = q, u, v, n
     row[PLANE], row[AREA] = n @ q, area
-    row[U_DUAL:U_DUAL + 3], row[V_DUAL:V_DUAL + 3] = u / (u @ u), v / (v @ v)
+    if u @ v == 0.0:
+        row[U_DUAL:U_DUAL + 3], row[V_DUAL:V_DUAL + 3] = u / (u @ u), v / (v @ v)
+    else:
+        # alpha = (p - Q).(v x w), beta = (p - Q).(w x u), w = (u x v) / |u x v|^2
+        w = n / area
+        row[U_DUAL:U_DUAL + 3], row[V_DUAL:V_DUAL + 3] = np.cross(v, w), np.cross(w, u)
 
 
 def bounds(row):
@@ -98,6 +106,14 @@ def distance(obj_f, k, o, d, t_max, from_self, from_inside):
 @jit_leaf
 def outward_normal(obj_f, k, p):
     return (obj_f[k, N], obj_f[k, N + 1], obj_f[k, N + 2])
+
+
+@jit_leaf
+def uv(obj_f, k, p):
+    """(alpha, beta) of p on the edges: its texture coordinates."""
+    q = (p[0] - obj_f[k, Q], p[1] - obj_f[k, Q + 1], p[2] - obj_f[k, Q + 2])
+    return (q[0] * obj_f[k, U_DUAL] + q[1] * obj_f[k, U_DUAL + 1] + q[2] * obj_f[k, U_DUAL + 2],
+            q[0] * obj_f[k, V_DUAL] + q[1] * obj_f[k, V_DUAL + 1] + q[2] * obj_f[k, V_DUAL + 2])
 
 
 @jit_leaf

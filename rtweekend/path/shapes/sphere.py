@@ -1,6 +1,10 @@
 """The sphere: intersection, normal, bounds, and sampling it as a light.
 
-Row of obj_f: CENTER (0:3), RADIUS (3, signed), RADIUS2 (4, its square).
+Row of obj_f: CENTER (0:3), RADIUS (3, signed), RADIUS2 (4, its square) and
+VELOCITY (5:8): how far the centre moves over the shutter (motion blur; the
+centre at time t is CENTER + t VELOCITY).  Every function that reads the centre
+takes the ray's `time`: None in a kernel for a scene where nothing moves, which
+Numba compiles without the motion (an `is None` test on an argument).
 The outward normal is (p - center) / radius, so a negative radius (book 1's
 hollow bubble) or flip_face turns it inward.
 
@@ -11,6 +15,8 @@ point (uniformly over all directions from on or inside it).
 """
 import math
 
+import numpy as np
+
 from ...kernel import rng
 from ...kernel.jit import jit, jit_leaf, like
 from ...kernel.vec3 import dot, local, onb, scale
@@ -20,23 +26,39 @@ INV_4PI = 1.0 / (4.0 * math.pi)
 CENTER = 0
 RADIUS = 3
 RADIUS2 = 4
-FLOATS = 5
+VELOCITY = 5
+FLOATS = 8
 
 
-def pack(center, radius, row):
-    """Fill a row with a sphere placed in the world (radius < 0: inward normals)."""
+def pack(center, radius, row, velocity=(0.0, 0.0, 0.0)):
+    """Fill a row with a sphere placed in the world (radius < 0: inward normals),
+    whose centre moves by `velocity` over the shutter."""
     row[CENTER:CENTER + 3], row[RADIUS], row[RADIUS2] = center, radius, radius * radius
+    row[VELOCITY:VELOCITY + 3] = velocity
 
 
 def bounds(row):
+    """The box around the sphere's whole sweep (both ends: the sweep is convex)."""
     r = abs(row[RADIUS])
-    return row[CENTER:CENTER + 3] - r, row[CENTER:CENTER + 3] + r
+    c0 = row[CENTER:CENTER + 3]
+    c1 = c0 + row[VELOCITY:VELOCITY + 3]
+    return np.minimum(c0, c1) - r, np.maximum(c0, c1) + r
 
 
 @jit_leaf
-def root(obj_f, k, o, d, t_max, far_only):
+def center(obj_f, k, time):
+    """The centre at `time` (None: the sphere does not move)."""
+    if time is None:
+        return (obj_f[k, 0], obj_f[k, 1], obj_f[k, 2])
+    return (obj_f[k, 0] + time * obj_f[k, VELOCITY], obj_f[k, 1] + time * obj_f[k, VELOCITY + 1],
+            obj_f[k, 2] + time * obj_f[k, VELOCITY + 2])
+
+
+@jit_leaf
+def root(obj_f, k, o, d, t_max, far_only, time):
     """Nearest root in (0, t_max) of |o + t d - c| = |r| for unit d, else inf."""
-    oc = (o[0] - obj_f[k, 0], o[1] - obj_f[k, 1], o[2] - obj_f[k, 2])
+    c = center(obj_f, k, time)
+    oc = (o[0] - c[0], o[1] - c[1], o[2] - c[2])
     half_b = dot(oc, d)
     c = dot(oc, oc) - obj_f[k, RADIUS2]
     disc = half_b * half_b - c
@@ -54,19 +76,45 @@ def root(obj_f, k, o, d, t_max, far_only):
 
 
 @jit_leaf
-def distance(obj_f, k, o, d, t_max, from_self, from_inside):
+def distance(obj_f, k, o, d, t_max, from_self, from_inside, time):
     """Distance to the sphere along d, for a ray leaving object from_self?."""
     if from_self and not from_inside:
         return like(t_max, INF)     # leaving a convex surface outward
-    return root(obj_f, k, o, d, t_max, from_self)
+    return root(obj_f, k, o, d, t_max, from_self, time)
 
 
 @jit_leaf
-def outward_normal(obj_f, k, p):
+def interval(obj_f, k, o, d, time):
+    """(t0, t1): where the line o + t d is inside the ball (t0 > t1: never)."""
+    c = center(obj_f, k, time)
+    oc = (o[0] - c[0], o[1] - c[1], o[2] - c[2])
+    half_b = dot(oc, d)
+    disc = half_b * half_b - (dot(oc, oc) - obj_f[k, RADIUS2])
+    if disc < 0.0:
+        return INF, -INF
+    sq = math.sqrt(disc)
+    return -half_b - sq, -half_b + sq
+
+
+@jit_leaf
+def outward_normal(obj_f, k, p, time):
     inv_r = 1.0 / obj_f[k, RADIUS]
-    return ((p[0] - obj_f[k, 0]) * inv_r,
-            (p[1] - obj_f[k, 1]) * inv_r,
-            (p[2] - obj_f[k, 2]) * inv_r)
+    c = center(obj_f, k, time)
+    return ((p[0] - c[0]) * inv_r,
+            (p[1] - c[1]) * inv_r,
+            (p[2] - c[2]) * inv_r)
+
+
+@jit_leaf
+def uv(obj_f, k, p, time):
+    """The book's (u, v) on the sphere: u = angle about y from -x, over 2 pi;
+    v = angle from -y, over pi (of the point's direction from the centre)."""
+    c = center(obj_f, k, time)
+    inv_r = 1.0 / abs(obj_f[k, RADIUS])
+    x, y, z = (p[0] - c[0]) * inv_r, (p[1] - c[1]) * inv_r, (p[2] - c[2]) * inv_r
+    theta = math.acos(min(1.0, max(-1.0, -y)))
+    phi = math.atan2(-z, x) + math.pi
+    return phi / rng.TWO_PI, theta / math.pi
 
 
 @jit_leaf
@@ -84,9 +132,10 @@ def one_minus_cos_theta_max(r2, dist2):
 
 
 @jit_leaf
-def sample_toward(obj_f, k, p, state):
+def sample_toward(obj_f, k, p, state, time):
     """A unit direction from p, uniform in the cone the sphere subtends."""
-    w = (obj_f[k, 0] - p[0], obj_f[k, 1] - p[1], obj_f[k, 2] - p[2])
+    c = center(obj_f, k, time)
+    w = (c[0] - p[0], c[1] - p[1], c[2] - p[2])
     dist2 = dot(w, w)
     r2 = obj_f[k, RADIUS2]
     if dist2 <= r2:
@@ -103,10 +152,11 @@ def sample_toward(obj_f, k, p, state):
 
 
 @jit_leaf
-def pdf_toward(obj_f, k, p, d, from_self, from_inside):
+def pdf_toward(obj_f, k, p, d, from_self, from_inside, time):
     """Solid-angle density at p of direction d under sample_toward; 0 if d misses."""
     if not from_self:
-        w = (obj_f[k, 0] - p[0], obj_f[k, 1] - p[1], obj_f[k, 2] - p[2])
+        c = center(obj_f, k, time)
+        w = (c[0] - p[0], c[1] - p[1], c[2] - p[2])
         dist2 = dot(w, w)
         r2 = obj_f[k, RADIUS2]
         if dist2 <= r2:
@@ -119,6 +169,6 @@ def pdf_toward(obj_f, k, p, d, from_self, from_inside):
             return 0.0
         return 1.0 / (rng.TWO_PI * one_minus_cos_theta_max(r2, dist2))
     # Leaving this very sphere light: only inward, to its far side.
-    if from_inside and root(obj_f, k, p, d, INF, True) != INF:
+    if from_inside and root(obj_f, k, p, d, INF, True, time) != INF:
         return INV_4PI
     return 0.0
