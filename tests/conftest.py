@@ -30,3 +30,10 @@ def cornell_glass_reference():
     """Mitsuba 3's converged cornell_glass at 150x150 (the books' Schlick glass)."""
     with np.load(DATA / "reference" / "cornell_glass_150.npz") as f:
         return f["radiance"], f["stderr"]
+
+
+@pytest.fixture(scope="session")
+def cornell_smoke_reference():
+    """Mitsuba 3's volpath render of cornell_smoke at 150x150 (media in boxes)."""
+    with np.load(DATA / "reference" / "cornell_smoke_150.npz") as f:
+        return f["radiance"], f["stderr"]

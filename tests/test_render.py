@@ -146,3 +146,19 @@ def test_blocks_rendered_apart_and_merged_in_order_are_bit_identical(cornell_box
         assert np.array_equal(getattr(merged, name), getattr(local.film, name)), name
     with pytest.raises(ValueError):
         block_film(frame, 3, 10)          # blocks start on a block boundary
+
+
+NEXT_WEEK = ["checkered_spheres", "perlin_spheres", "simple_light", "cornell_smoke",
+             "bouncing_spheres", "next_week_final"]
+
+
+@pytest.mark.parametrize("name", NEXT_WEEK)
+def test_next_week_scenes_render_without_bad_samples(name):
+    # Each scene compiles only the features it uses (textures, media, motion),
+    # renders something, drops no NaN/Inf sample, and one thread gives the
+    # bits of two.
+    scene = rt.load_scene(name)
+    r = rt.render(scene, spp=4, seed=1, width=24, height=18, threads=2)
+    assert r.stats.nan_dropped == 0 and r.image.mean() > 0.01
+    one = rt.render(scene, spp=4, seed=1, width=24, height=18, threads=1)
+    assert np.array_equal(r.image, one.image)
