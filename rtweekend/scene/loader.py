@@ -302,7 +302,7 @@ class _Loader:
         if name is not None and not isinstance(name, str):
             raise self.fail(what, f"name: expected a string, got {name!r}")
         if kind == "constant_medium":
-            return self.medium(spec, f"{what} ({label(kind, name)})", name, materials)
+            return self.medium(spec, f"{what} ({label(kind, name)})", name)
         if not isinstance(kind, str) or kind not in SHAPES:
             hint = f"{kind!r} is not an object type" if kind is not None else "missing"
             raise self.fail(what, f"type: {hint}; expected one of: "
@@ -334,7 +334,7 @@ class _Loader:
             raise self.fail(what, str(e)) from None
         return shape
 
-    def medium(self, spec, what, name, materials):
+    def medium(self, spec, what, name):
         """A constant_medium: a boundary table (a sphere or a box with its
         placement, no material needed), density and albedo."""
         self.check_keys(spec, MEDIUM_KEYS, what)
