@@ -34,7 +34,7 @@ def test_time_averaged_coverage_pixel_by_pixel():
     # value is the time-and-area average of "its ray hits the sphere", which
     # for a ray at (x, y) is the share of t in [0, 1] with
     # |x - (x0 + 6 t)| < sqrt(r^2 - y^2): integrated here on a fine grid.
-    width, vfov = 16, 2.0
+    width, vfov = 16, 0.5
     scene = moving_scene((-3, 0, 0), (3, 0, 0), radius=0.4, width=width, vfov=vfov)
     r = rt.render(scene, spp=1024, seed=2)
     half = math.tan(math.radians(vfov) / 2) * 50          # the view at z = 0
@@ -49,7 +49,7 @@ def test_time_averaged_coverage_pixel_by_pixel():
     exact = (hi - lo).reshape(n, width, n).mean(axis=(0, 2))
     z = (r.image[0, :, 0] - exact) / np.maximum(r.stderr[0, :, 0], 1e-9)
     assert np.abs(z).max() < 5, f"worst pixel z = {np.abs(z).max():.2f}"
-    assert exact.max() > 0.05                                 # the test sees the sphere
+    assert (exact > 0.05).sum() >= 12                         # the test sees the sphere
 
 
 def test_scattered_rays_keep_the_time():
