@@ -32,15 +32,11 @@ class Sampling:
     sobol: the position in the pixel and the first diffuse bounce's direction
     come from Owen-scrambled Sobol points (kernel/sobol.py) instead of the
     independent stream (which still gives every other number).
-    facing: the light pdf at a point leaves out the one-sided rect lights it
-    sees from behind (they give it no light: the books sample them anyway), so
-    those samples go to the other lights or the cosine (path/pdf.py).
     """
     light_weight: float
     next_event: bool = False
     roulette_depth: int = 0      # 0: no Russian roulette
     sobol: bool = False
-    facing: bool = False
 
 
 SAMPLINGS = {
@@ -48,9 +44,8 @@ SAMPLINGS = {
     "mixture": Sampling(0.5),            # The Rest of Your Life
     "light": Sampling(1.0),              # the lights list only
     "nee": Sampling(0.5, next_event=True, roulette_depth=1),
-    # Ours beyond the books: Sobol points, and lights seen from behind left out.
-    "mixture+sobol": Sampling(0.5, sobol=True, facing=True),
-    "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True, facing=True),
+    "mixture+sobol": Sampling(0.5, sobol=True),
+    "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True),
 }
 # The default: the strategy with the lowest error at equal time on the bundled
 # scenes (benchmarks/accuracy.py; README, Accuracy).  "mixture" is the books'.

@@ -131,22 +131,6 @@ def test_rect_light_direct(sampling, p):
     assert_expected(r.image[..., 0], r.stderr[..., 0], exact, f"rect light ({sampling})")
 
 
-@pytest.mark.parametrize("sampling", ["mixture", "mixture+sobol"])
-def test_a_light_seen_from_behind_adds_nothing(sampling):
-    # test_rect_light_direct's light, and above it a second one-sided light
-    # facing up: the floor sees only its back.  The books' mixture samples it
-    # anyway; mixture+sobol leaves it out there (Sampling.facing).  Both: the
-    # first light's closed form.
-    le, h = 4.0, 1.0
-    x0, x1, z0, z1 = -0.6, 0.8, -0.5, 0.5
-    light = rt.xz_rect(x0, x1, z0, z1, h, rt.diffuse_light((le,) * 3)).flip_face()
-    scene, albedo = _floor_point_scene((0.5, 0, 0.3), light)
-    scene.add(rt.xz_rect(-2, 2, -2, 2, 1.5, rt.diffuse_light((9, 9, 9))), light=True)
-    exact = albedo / math.pi * le * rect_integral(x0, x1, z0, z1, h, 0.5, 0.3)
-    r = rt.render(scene, spp=40_000, sampling=sampling, seed=7)
-    assert_expected(r.image[..., 0], r.stderr[..., 0], exact, f"light behind ({sampling})")
-
-
 @pytest.mark.parametrize("sampling", STRATEGIES)
 @pytest.mark.parametrize("s", [0.0, 0.8])
 def test_sphere_light_direct(sampling, s):

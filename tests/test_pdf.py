@@ -15,12 +15,11 @@ import rtweekend as rt
 from rtweekend.kernel.rng import seed_state, unit_vector
 from rtweekend.path import pdf
 from rtweekend.path.layout import NO_HIT
-from rtweekend.path.pack import light_sides, pack_scene
+from rtweekend.path.pack import pack_scene
 
 from stats import assert_chi2
 
 MAT = rt.lambertian((0.5, 0.5, 0.5))
-GLOW = rt.diffuse_light((1, 1, 1))
 N_SAMPLES = 200_000
 COS_BINS, PHI_BINS, SUB = 24, 48, 32
 
@@ -52,14 +51,11 @@ def _uniform_dirs(count, seed):
     return out
 
 
-def _case(shapes, w, p=(0.0, 0.0, 0.0), n=(0.0, 0.0, 1.0), facing=False):
+def _case(shapes, w, p=(0.0, 0.0, 0.0), n=(0.0, 0.0, 1.0)):
     scene = rt.Scene()
     for s in shapes:
         scene.add(s, light=True)
     a = pack_scene(scene)
-    if facing:          # as the strategies with Sampling.facing pack it
-        a = a._replace(light_sides=light_sides(a))
-        assert a.light_sides.any()
     n = tuple(np.asarray(n, float) / np.linalg.norm(n))
     return a, tuple(map(float, p)), n, float(w)
 
@@ -83,14 +79,6 @@ CASES = {
                                 .translate((0.3, 0, 0))], 1.0),
     "box light around the point": lambda: _case([rt.box((-1, -2, -0.5), (1.5, 1, 1), MAT)
                                                  .rotate_y(-40)], 1.0),
-    # Sampling.facing: the point (at the origin) sees the front of the first
-    # one-sided rect light and the back of the second, which is left out.
-    "facing, one light behind": lambda: _case(
-        [rt.xz_rect(-1, 1, -1, 1, 1, GLOW).flip_face(), rt.xy_rect(-1, 1, -1, 1, 1, GLOW),
-         rt.sphere((0, 0, 2), 0.8, GLOW)], 0.5, facing=True),
-    "facing, every light behind": lambda: _case(
-        [rt.xy_rect(-1, 1, -1, 1, 1, GLOW), rt.quad((-1, -1, -1), (0, 2, 0), (2, 0, 0), GLOW)],
-        0.5, facing=True),
 }
 
 
@@ -153,23 +141,23 @@ def test_light_pdf_closed_forms():
     cos_max = math.sqrt(1 - 1.5 ** 2 / 3 ** 2)
     for d in [(0.0, 0.0, 1.0), (0.3, 0.1, 1.0)]:
         d = tuple(np.asarray(d) / np.linalg.norm(d))
-        assert pdf.lights_value(a, p, d, NO_HIT, False, 1, None) == \
+        assert pdf.lights_value(a, p, d, NO_HIT, False, None) == \
             pytest.approx(1 / (2 * math.pi * (1 - cos_max)), rel=1e-12)
     # Far away the same formula, without cancellation: ~ 1 / (pi (r/d)^2).
     a, p, n, w = _case([rt.sphere((0, 0, 1e6), 1.0, MAT)], 1.0)
-    assert pdf.lights_value(a, p, (0.0, 0.0, 1.0), NO_HIT, False, 1, None) == \
+    assert pdf.lights_value(a, p, (0.0, 0.0, 1.0), NO_HIT, False, None) == \
         pytest.approx(1e12 / math.pi, rel=1e-6)
     # Rect of area A at distance h, straight above: h^2 / (cos A); at 45 degrees
     # the distance is h sqrt 2 and the cosine 1/sqrt 2.
     a, p, n, w = _case([rt.xz_rect(-2, 2, -1, 1, 1.5, MAT)], 1.0)
-    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False, 1, None) == \
+    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False, None) == \
         pytest.approx(1.5 ** 2 / 8, rel=1e-12)
     d = (math.sqrt(0.5), math.sqrt(0.5), 0.0)
-    assert pdf.lights_value(a, p, d, NO_HIT, False, 1, None) == \
+    assert pdf.lights_value(a, p, d, NO_HIT, False, None) == \
         pytest.approx((1.5 * math.sqrt(2)) ** 2 / (math.sqrt(0.5) * 8), rel=1e-12)
     # Inside a sphere light every direction hits it: uniform, 1 / (4 pi).
     a, p, n, w = _case([rt.sphere((0.2, 0, 0), 1.0, MAT)], 1.0)
-    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False, 1, None) == \
+    assert pdf.lights_value(a, p, (0.0, 1.0, 0.0), NO_HIT, False, None) == \
         pytest.approx(1 / (4 * math.pi))
 
 
@@ -179,23 +167,4 @@ def test_light_pdf_is_zero_off_the_light_and_from_the_light_itself():
     assert (_value(a, p, n, 1.0, miss) == 0).all()
     # From a point on the light rect, no direction reaches it: density 0.
     assert pdf.lights_value(a, (0.0, 0.0, 1.0), (0.0, 0.0, 1.0),
-                            0, False, 1, None) == 0.0
-
-
-def test_facing_leaves_out_exactly_the_lights_seen_from_behind():
-    a, p, n, w = CASES["facing, one light behind"]()
-    assert [pdf_facing(a, p, j) for j in range(3)] == [True, False, True]
-    # Behind every light, the mixture is the cosine lobe alone.
-    b, p, n, w = CASES["facing, every light behind"]()
-    dirs = _uniform_dirs(1000, 3)
-    cosine = np.maximum(dirs @ np.asarray(n), 0) / math.pi
-    assert np.allclose(_value(b, p, n, w, dirs), cosine, rtol=1e-12, atol=0)
-
-
-@njit
-def _facing(a, p, j):
-    return pdf.facing(a, p, j)
-
-
-def pdf_facing(a, p, j):
-    return bool(_facing(a, p, j))
+                            0, False, None) == 0.0

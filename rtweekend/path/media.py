@@ -77,15 +77,14 @@ def transmittance(scene, media, o, d, t_max, time):
 def phase_scatter(scene, p, light_weight, use_lights, time, state):
     """(direction, phase / pdf, state) at a scattering point p: uniform over the
     sphere, or mixed with the light pdf (weight light_weight)."""
-    count = pdf.facing_count(scene, p) if use_lights else 0
-    if count == 0:
+    if not use_lights:
         d, state = rng.unit_vector(state)
         return d, 1.0, state
     u, state = rng.uniform(state)
     if u < light_weight:
-        d, state = pdf.lights_generate(scene, p, count, state, time)
+        d, state = pdf.lights_generate(scene, p, state, time)
     else:
         d, state = rng.unit_vector(state)
     mixed = (1.0 - light_weight) * INV_4PI + \
-        light_weight * pdf.lights_value(scene, p, d, NO_HIT, False, count, time)
+        light_weight * pdf.lights_value(scene, p, d, NO_HIT, False, time)
     return d, INV_4PI / mixed, state

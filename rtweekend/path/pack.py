@@ -16,8 +16,6 @@ from .textures import pack_textures
 
 
 AXIS_RECTS = {"xy_rect": XY_RECT, "xz_rect": XZ_RECT, "yz_rect": YZ_RECT}
-# The normal's axis of each axis-aligned kind.
-AXIS_KINDS = {XY_RECT: 2, XZ_RECT: 1, YZ_RECT: 0}
 
 
 def primitives(shape):
@@ -114,24 +112,5 @@ def pack_scene(scene, bvh=None):
     else:
         tree = hierarchy.empty_bvh(len(obj_i), ids)
     emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
-    return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights,
-                       np.zeros((len(lights), 4)), emitters, bg_kind, bg, *tree)
-
-
-def light_sides(arrays):
-    """light_sides for a strategy that leaves out lights seen from behind: the
-    front half-space (n, n.q) of each one-sided rect light (an emitting rect:
-    diffuse_light emits from its front side only); zeros (every point) for
-    the other lights: spheres, boxes, and attractors that do not emit."""
-    sides = np.zeros((len(arrays.lights), 4))
-    for j, k in enumerate(arrays.lights):
-        if arrays.mat_i[arrays.obj_i[k, OBJ_MAT]] != DIFFUSE_LIGHT:
-            continue
-        kind, row = arrays.obj_i[k, 0], arrays.obj_f[k]
-        if kind in AXIS_KINDS:
-            n = np.zeros(3)
-            n[AXIS_KINDS[kind]] = row[axis_rect.SIGN]
-            sides[j] = (*n, row[axis_rect.SIGN] * row[axis_rect.K])
-        elif kind == RECT:
-            sides[j] = (*row[rect.N:rect.N + 3], row[rect.PLANE])
-    return sides
+    return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights, emitters,
+                       bg_kind, bg, *tree)

@@ -41,54 +41,18 @@ def cosine_value(n, d):
 
 
 # -- all lights, one chosen uniformly (the books' hittable_list pdf) --------------
-#
-# The lights a point p samples are those whose emitting side it can see:
-# light_sides[j] = (n, c) of light j, p may sample it iff n . p >= c.  A
-# one-sided rect light seen from behind gives no light, so a strategy that
-# leaves it out (options.Sampling.facing) sends those samples elsewhere; for
-# every other light, and for every light of the books' strategies, (n, c) = 0
-# and every point samples every light, exactly as the books do.
 
 @jit_inline
-def facing(scene, p, j):
-    """May p sample light j (see above)?"""
-    s = scene.light_sides
-    return s[j, 0] * p[0] + s[j, 1] * p[1] + s[j, 2] * p[2] >= s[j, 3]
-
-
-@jit_inline
-def facing_count(scene, p):
-    """How many lights p samples."""
-    count = 0
-    for j in range(scene.lights.shape[0]):
-        if facing(scene, p, j):
-            count += 1
-    return count
-
-
-@jit_inline
-def facing_light(scene, p, i):
-    """The i-th light, in list order, that p samples (0 <= i < facing_count)."""
+def lights_generate(scene, p, state, time):
+    """A unit direction from p towards one light chosen uniformly."""
     lights = scene.lights
-    for j in range(lights.shape[0]):
-        if facing(scene, p, j):
-            if i == 0:
-                return lights[j]
-            i -= 1
-    return lights[lights.shape[0] - 1]      # not reached
-
-
-@jit_inline
-def lights_generate(scene, p, count, state, time):
-    """A unit direction from p towards one of the `count` (> 0) lights p samples,
-    chosen uniformly."""
     u, state = rng.uniform(state)
-    k = facing_light(scene, p, min(int(u * count), count - 1))
+    k = lights[min(int(u * lights.shape[0]), lights.shape[0] - 1)]
     return shapes.sample_toward(scene, k, p, state, time)
 
 
 @jit_inline
-def lights_value(scene, p, d, from_obj, from_inside, count, time):
+def lights_value(scene, p, d, from_obj, from_inside, time):
     """Solid-angle density at p of direction d under lights_generate.
 
     Each light's term is 0 when d misses it, so the mixture never divides by a
@@ -97,22 +61,18 @@ def lights_value(scene, p, d, from_obj, from_inside, count, time):
     lights = scene.lights
     total = 0.0
     for j in range(lights.shape[0]):
-        if facing(scene, p, j):
-            total += shapes.pdf_toward(scene, lights[j], p, d, from_obj, from_inside, time)
-    return total / count
+        total += shapes.pdf_toward(scene, lights[j], p, d, from_obj, from_inside, time)
+    return total / lights.shape[0]
 
 
 # -- the mixture at a diffuse hit (The Rest of Your Life, chapter "Mixing") -------
-# A point that samples no light (every light faces away) uses the cosine alone.
 
 @jit_inline
 def mixture_generate(scene, p, n, light_weight, state, time):
     """A unit direction from (1 - w) cosine + w lights (w = light_weight)."""
     u, state = rng.uniform(state)
     if u < light_weight:
-        count = facing_count(scene, p)
-        if count > 0:
-            return lights_generate(scene, p, count, state, time)
+        return lights_generate(scene, p, state, time)
     return cosine_generate(n, state)
 
 
@@ -122,22 +82,16 @@ def mixture_at(scene, p, n, light_weight, u1, u2, state, time):
     light_weight picks a light, by u1 / light_weight (its direction from the
     stream); otherwise ((u1 - w) / (1 - w), u2) is the cosine lobe's point, so
     stratified points stay stratified over the lobe."""
-    if light_weight > 0.0:
-        count = facing_count(scene, p)
-        if count == 0:
-            return cosine_at(n, u1, u2), state
-        if u1 < light_weight:
-            k = facing_light(scene, p, min(int(u1 / light_weight * count), count - 1))
-            return shapes.sample_toward(scene, k, p, state, time)
+    if u1 < light_weight:
+        lights = scene.lights
+        k = lights[min(int(u1 / light_weight * lights.shape[0]), lights.shape[0] - 1)]
+        return shapes.sample_toward(scene, k, p, state, time)
     return cosine_at(n, (u1 - light_weight) / (1.0 - light_weight), u2), state
 
 
 @jit_inline
 def mixture_value(scene, p, n, light_weight, d, from_obj, from_inside, time):
+    value = (1.0 - light_weight) * cosine_value(n, d)
     if light_weight > 0.0:
-        count = facing_count(scene, p)
-        if count == 0:
-            return cosine_value(n, d)
-        return (1.0 - light_weight) * cosine_value(n, d) + \
-            light_weight * lights_value(scene, p, d, from_obj, from_inside, count, time)
-    return cosine_value(n, d)
+        value += light_weight * lights_value(scene, p, d, from_obj, from_inside, time)
+    return value

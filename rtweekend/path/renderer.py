@@ -26,7 +26,7 @@ from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
 from .kernel import render_pass
 from .layout import PathParams, SceneArrays
-from .pack import light_sides, pack_features, pack_scene
+from .pack import pack_features, pack_scene
 
 
 class Frame(NamedTuple):
@@ -70,10 +70,7 @@ def freeze(scene, options):
     if next_event:
         # Emitters are reached by shadow rays: the mixture draws towards the
         # lights list's other objects only (attractors, e.g. a glass ball).
-        lights = np.setdiff1d(arrays.lights, arrays.emitters)
-        arrays = arrays._replace(lights=lights, light_sides=np.zeros((len(lights), 4)))
-    if strategy.facing:
-        arrays = arrays._replace(light_sides=light_sides(arrays))
+        arrays = arrays._replace(lights=np.setdiff1d(arrays.lights, arrays.emitters))
     camera = scene.resolved_camera()
     max_depth = scene.resolved_max_depth() if options.max_depth is None else options.max_depth
     params = PathParams(cam=pack_camera(camera), width=camera.width, height=camera.height,
