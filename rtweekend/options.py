@@ -32,11 +32,16 @@ class Sampling:
     sobol: the position in the pixel and the first diffuse bounce's direction
     come from Owen-scrambled Sobol points (kernel/sobol.py) instead of the
     independent stream (which still gives every other number).
+    facing: at a point behind every light of the lights list (one-sided rect
+    lights seen from their back: no light reaches it from them), the mixture
+    draws from the cosine alone instead of sending samples to them (the books
+    do); pack.dark_sides.  Only with sobol (the kernel tests it there).
     """
     light_weight: float
     next_event: bool = False
     roulette_depth: int = 0      # 0: no Russian roulette
     sobol: bool = False
+    facing: bool = False
 
 
 SAMPLINGS = {
@@ -44,8 +49,9 @@ SAMPLINGS = {
     "mixture": Sampling(0.5),            # The Rest of Your Life
     "light": Sampling(1.0),              # the lights list only
     "nee": Sampling(0.5, next_event=True, roulette_depth=1),
-    "mixture+sobol": Sampling(0.5, sobol=True),
-    "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True),
+    # Ours beyond the books: Sobol points; no light samples where no light shines.
+    "mixture+sobol": Sampling(0.5, sobol=True, facing=True),
+    "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True, facing=True),
 }
 # The default: the strategy with the lowest error at equal time on the bundled
 # scenes (benchmarks/accuracy.py; README, Accuracy).  "mixture" is the books'.

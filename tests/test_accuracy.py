@@ -131,6 +131,36 @@ def test_rect_light_direct(sampling, p):
     assert_expected(r.image[..., 0], r.stderr[..., 0], exact, f"rect light ({sampling})")
 
 
+@pytest.mark.parametrize("sampling", ["mixture", "mixture+sobol"])
+def test_behind_every_light(sampling):
+    # A floor point under a one-sided rect light that faces up: the point sees
+    # its back, which is black and hides that part of a furnace (radiance 1,
+    # not in the lights list) around them.  Radiance: albedo x (1 - the
+    # rect's view factor).  The books' mixture samples the light there anyway;
+    # mixture+sobol (Sampling.facing) draws from the cosine alone.
+    x0, x1, z0, z1, h, px, pz = -0.6, 0.8, -0.5, 0.5, 1.0, 0.2, 0.1
+    light = rt.xz_rect(x0, x1, z0, z1, h, rt.diffuse_light((4, 4, 4)))
+    scene, albedo = _floor_point_scene((px, 0, pz), light)
+    scene.add(rt.sphere((0, 0, 0), 100, rt.diffuse_light((1, 1, 1))).flip_face())
+    exact = albedo * (1 - rect_integral(x0, x1, z0, z1, h, px, pz) / math.pi)
+    r = rt.render(scene, spp=40_000, sampling=sampling, seed=8)
+    assert_expected(r.image[..., 0], r.stderr[..., 0], exact, f"behind the light ({sampling})")
+
+
+def test_facing_strategies_know_where_no_light_shines():
+    from rtweekend.path.renderer import freeze
+    from rtweekend.options import RenderOptions
+    f = freeze(rt.load_scene("cornell_glass"), RenderOptions("path", sampling="mixture+sobol"))
+    assert f.scene.dark_sides.tolist() == [[0.0, -1.0, 0.0, -554.0]]   # facing down at 554
+    books = freeze(rt.load_scene("cornell_glass"), RenderOptions("path", sampling="mixture"))
+    assert books.scene.dark_sides.shape == (0, 4)
+    # A sphere light shines everywhere: no point is behind every light.
+    scene = rt.load_scene("cornell_box")
+    scene.add(rt.sphere((100, 300, 100), 20, rt.diffuse_light((1, 1, 1))), light=True)
+    f = freeze(scene, RenderOptions("path", sampling="mixture+sobol"))
+    assert f.scene.dark_sides.shape == (0, 4)
+
+
 @pytest.mark.parametrize("sampling", STRATEGIES)
 @pytest.mark.parametrize("s", [0.0, 0.8])
 def test_sphere_light_direct(sampling, s):

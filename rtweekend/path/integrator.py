@@ -55,6 +55,17 @@ def face_normal(d, n_out):
 
 
 @jit
+def behind_every_light(sides, p):
+    """Is p behind every half-space of `sides` (pack.dark_sides; none: no)?"""
+    if sides.shape[0] == 0:
+        return False
+    for j in range(sides.shape[0]):
+        if sides[j, 0] * p[0] + sides[j, 1] * p[1] + sides[j, 2] * p[2] >= sides[j, 3]:
+            return False
+    return True
+
+
+@jit
 def roulette(tr, tg, tb, state):
     """Russian roulette: (survives, throughput, state); a path goes on with
     probability q = its largest channel (at most 1), divided by q (unbiased)."""
@@ -193,10 +204,16 @@ def render_row(y, film, scene, params, s0, s1, events, quasi, textures, media, m
                     scene, m, d, n, front_face, color, state)
                 if not scatters:
                     break
+                # The mixture's weight on the lights list here (Sampling.facing:
+                # none where no light shines; then the cosine alone).
+                lw = params.light_weight
+                if quasi is not None:
+                    if behind_every_light(scene.dark_sides, p):
+                        lw = 0.0
                 if events is not None:
                     if not specular:
                         target, shadow_d, shadow_inside, shadow_t, c, state = nee.shadow_ray(
-                            scene, k, p, n, n_out, params.light_weight, state, time, textures)
+                            scene, k, p, n, n_out, lw, state, time, textures)
                         shadow_o = p
                         sr, sg, sb = (tr * att[0] * c[0], tg * att[1] * c[1],
                                       tb * att[2] * c[2])
@@ -204,8 +221,8 @@ def render_row(y, film, scene, params, s0, s1, events, quasi, textures, media, m
                 if quasi is not None:
                     if not specular and first_diffuse:
                         u1, u2 = sobol.sample_2d(pixel, s, 1, params.seed)
-                        d, state = pdf.mixture_at(scene, p, n, params.light_weight if
-                                                  use_lights else 0.0, u1, u2, state, time)
+                        d, state = pdf.mixture_at(scene, p, n, lw if use_lights else 0.0, u1,
+                                                  u2, state, time)
                         drawn = True
                         first_diffuse = False
                 if drawn:
@@ -213,8 +230,7 @@ def render_row(y, film, scene, params, s0, s1, events, quasi, textures, media, m
                 elif specular:
                     d = d_out
                 elif use_lights:
-                    d, state = pdf.mixture_generate(scene, p, n, params.light_weight, state,
-                                                    time)
+                    d, state = pdf.mixture_generate(scene, p, n, lw, state, time)
                 else:
                     d, state = pdf.cosine_generate(n, state)
                 from_inside = shapes.enters(scene, k, n_out, d)
@@ -232,8 +248,7 @@ def render_row(y, film, scene, params, s0, s1, events, quasi, textures, media, m
                 else:
                     # Importance-sampling the mixture pdf (or cosine's, whose
                     # density next-event MIS needs).
-                    density = nee.continuation_pdf(scene, p, n, params.light_weight, d, k,
-                                                   from_inside, time)
+                    density = nee.continuation_pdf(scene, p, n, lw, d, k, from_inside, time)
                     scattering = pdf.cosine_value(n, d)
                     # A direction below the surface, or one no component can
                     # make, carries no light: stop instead of dividing by zero.

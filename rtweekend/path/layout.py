@@ -67,6 +67,7 @@ class SceneArrays(NamedTuple):
     mat_i: np.ndarray      # int64 [M]: kind
     mat_f: np.ndarray      # float64 [M, MAT_FLOATS]: colour, parameter
     lights: np.ndarray     # int64 [L]: object indices the light pdf samples
+    dark_sides: np.ndarray  # float64 [D, 4]: where the lights give nothing (pack.py)
     emitters: np.ndarray   # int64 [E]: objects whose material emits (next-event targets)
     bg_kind: int           # BG_COLOR or BG_SKY
     bg: np.ndarray         # float64 [3]: the background's radiance (BG_COLOR)

@@ -16,6 +16,8 @@ from .textures import pack_textures
 
 
 AXIS_RECTS = {"xy_rect": XY_RECT, "xz_rect": XZ_RECT, "yz_rect": YZ_RECT}
+# The normal's axis of each axis-aligned kind.
+AXIS_KINDS = {XY_RECT: 2, XZ_RECT: 1, YZ_RECT: 0}
 
 
 def primitives(shape):
@@ -112,5 +114,27 @@ def pack_scene(scene, bvh=None):
     else:
         tree = hierarchy.empty_bvh(len(obj_i), ids)
     emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
-    return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights, emitters,
-                       bg_kind, bg, *tree)
+    return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights,
+                       np.zeros((0, 4)), emitters, bg_kind, bg, *tree)
+
+
+def dark_sides(arrays):
+    """The front half-spaces (n, c: n.p >= c in front) of the lights list's
+    emitters when every one of them is a one-sided rect (diffuse_light emits
+    from its front only), else none.  A point behind all of them gets no light
+    from any: a strategy with Sampling.facing does not sample the lights there
+    (integrator.py).  Attractors (lights that do not emit) do not count."""
+    sides = []
+    for k in arrays.lights:
+        if arrays.mat_i[arrays.obj_i[k, OBJ_MAT]] != DIFFUSE_LIGHT:
+            continue
+        kind, row = arrays.obj_i[k, 0], arrays.obj_f[k]
+        if kind in AXIS_KINDS:
+            n = np.zeros(3)
+            n[AXIS_KINDS[kind]] = row[axis_rect.SIGN]
+            sides.append((*n, row[axis_rect.SIGN] * row[axis_rect.K]))
+        elif kind == RECT:
+            sides.append((*row[rect.N:rect.N + 3], row[rect.PLANE]))
+        else:
+            return np.zeros((0, 4))      # a sphere or box light shines everywhere
+    return np.array(sides, dtype=np.float64).reshape(-1, 4)

@@ -26,7 +26,7 @@ from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
 from .kernel import render_pass
 from .layout import PathParams, SceneArrays
-from .pack import pack_features, pack_scene
+from .pack import dark_sides, pack_features, pack_scene
 
 
 class Frame(NamedTuple):
@@ -71,6 +71,8 @@ def freeze(scene, options):
         # Emitters are reached by shadow rays: the mixture draws towards the
         # lights list's other objects only (attractors, e.g. a glass ball).
         arrays = arrays._replace(lights=np.setdiff1d(arrays.lights, arrays.emitters))
+    if strategy.facing:
+        arrays = arrays._replace(dark_sides=dark_sides(arrays))
     camera = scene.resolved_camera()
     max_depth = scene.resolved_max_depth() if options.max_depth is None else options.max_depth
     params = PathParams(cam=pack_camera(camera), width=camera.width, height=camera.height,
