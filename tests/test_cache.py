@@ -53,3 +53,34 @@ def test_collector_is_paused_only_while_compiling():
     except KeyboardInterrupt:
         pass
     assert gc.isenabled()
+
+
+CHILD = """
+import hashlib, sys
+import numpy as np
+import rtweekend as rt
+r = rt.Renderer(rt.load_scene("metals"), width=24, height=16, sampling="mixture", seed=2,
+                threads=1)
+r.add_samples(8)
+h = hashlib.sha256()
+for a in r.film:
+    h.update(np.ascontiguousarray(a).tobytes())
+print(h.hexdigest())
+"""
+
+
+def test_a_kernel_compiled_here_and_one_loaded_from_the_cache_give_the_same_bits(tmp_path):
+    # The first process compiles the kernel (an empty cache folder), the second
+    # loads what the first saved; the float64 sums must agree to the bit (with
+    # 'contract' or 'reassoc' among the fastmath flags they did not: kernel/jit.py).
+    import os
+    import subprocess
+    import sys
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    runs = [subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True,
+                           text=True, timeout=600) for _ in range(2)]
+    for run in runs:
+        assert run.returncode == 0, run.stderr[-2000:]
+    compiled, loaded = (run.stdout.strip() for run in runs)
+    assert any(tmp_path.rglob("*.nbi")), "the first run saved nothing to the cache"
+    assert compiled == loaded

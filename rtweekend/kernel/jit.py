@@ -15,7 +15,16 @@ from numba.np.numpy_support import as_dtype
 
 # fastmath without 'nnan' and 'ninf': those let LLVM assume no NaN/inf exists,
 # which silently breaks `t_max = inf` and the NaN checks that drop bad samples.
-FASTMATH = {"nsz", "arcp", "contract", "afn", "reassoc"}
+# Nor 'reassoc' and 'contract' (fused multiply-add), which let the result of a
+# sum depend on how the code around it was optimised: a helper Numba compiles on
+# its own (render_row, nee.py's) is also linked into its caller and optimised
+# again there, so the process that compiled a kernel ran one copy and every
+# later process, loading it from the cache, ran the other -- the first render
+# and the next gave different bits for the same seed (whole different paths in
+# bouncing_spheres).  Without them both copies compute the same values
+# (tests/test_determinism.py); they were worth about 6% of cornell_glass's speed
+# (benchmarks/results/measurements.md).
+FASTMATH = {"nsz", "arcp", "afn"}
 
 # error_model='numpy': a division by zero gives inf or nan instead of raising,
 # and no kernel pays for the zero checks.  A helper inlined at Numba's level
