@@ -138,3 +138,22 @@ def test_precision_probe_is_the_renderers_search_in_true_float32():
     asm = precision.nearest.inspect_asm(sig)
     assert re.findall(r"\bv?(?:mul|add|sub|div|sqrt)ss\b", asm)
     assert not re.findall(r"\bv?(?:mul|add|sub|div|sqrt)sd\b", asm)
+
+
+def test_paired_benchmark_compares_trees_in_one_process():
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "paired.py"), "trees",
+                        str(REPO), "--quick", "--scene", "metals", "--sampling", "cosine"],
+                       capture_output=True, text=True, timeout=600, cwd=REPO.parent)
+    assert r.returncode == 0, r.stderr
+    line = r.stdout.strip().splitlines()[-1]
+    assert "M samples/s, 1.000x the first" in line, r.stdout
+
+
+def test_paired_benchmark_without_the_yardstick_says_so(tmp_path):
+    env = dict(os.environ, RTWEEKEND_YARDSTICK=str(tmp_path / "nowhere.py"))
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "paired.py"), "yardstick",
+                        "--quick", "--out", str(tmp_path)], capture_output=True, text=True,
+                       timeout=600, env=env)
+    assert r.returncode == 0, r.stderr
+    assert "yardstick not found at" in r.stdout
+    assert not (tmp_path / "paired.json").exists()
