@@ -3,6 +3,7 @@ shared machine.
 
     python benchmarks/paired.py yardstick [--seconds 60] [--threads 1,2]
     python benchmarks/paired.py trees TREE_A TREE_B [...] [--scene S] [--sampling M]
+                                  [--threads N]    (default: all)
 
 On the 2-core VM two fresh processes running the same code differ by 10-20%
 (the host's load moves under them), so ratios of separate runs, even
@@ -117,7 +118,8 @@ def main(argv=None):
     p.add_argument("mode", choices=["yardstick", "trees"])
     p.add_argument("paths", nargs="*", help="source trees (trees mode)")
     p.add_argument("--seconds", type=float, default=60.0, help="per thread count or comparison")
-    p.add_argument("--threads", default=None, help="thread counts, e.g. 1,2 (default: 1 and all)")
+    p.add_argument("--threads", default=None,
+                   help="thread counts, e.g. 1,2 (yardstick; default: 1 and all) or N (trees)")
     p.add_argument("--scene", default="cornell_glass")
     p.add_argument("--sampling", default="mixture")
     a = p.parse_args(argv)
@@ -126,6 +128,7 @@ def main(argv=None):
     if a.mode == "trees":
         if not a.paths:
             p.error("trees: give at least one source tree")
+        numba.set_num_threads(threads[0] if a.threads else numba.config.NUMBA_NUM_THREADS)
         trees(a.paths, 1.0 if a.quick else a.seconds, a.scene, a.sampling)
         return
     if not yardstick.available():

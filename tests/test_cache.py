@@ -1,6 +1,9 @@
 """Numba's cache is keyed by the package's sources, so no edit runs stale code;
 and what the compile itself is wrapped in."""
+import os
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 from numba import config
@@ -73,9 +76,6 @@ def test_a_kernel_compiled_here_and_one_loaded_from_the_cache_give_the_same_bits
     # The first process compiles the kernel (an empty cache folder), the second
     # loads what the first saved; the float64 sums must agree to the bit (with
     # 'contract' or 'reassoc' among the fastmath flags they did not: kernel/jit.py).
-    import os
-    import subprocess
-    import sys
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
     runs = [subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True,
                            text=True, timeout=600) for _ in range(2)]

@@ -22,7 +22,7 @@ from numba.np.numpy_support import as_dtype
 # later process, loading it from the cache, ran the other -- the first render
 # and the next gave different bits for the same seed (whole different paths in
 # bouncing_spheres).  Without them both copies compute the same values
-# (tests/test_determinism.py); they were worth about 6% of cornell_glass's speed
+# (tests/test_cache.py); they were worth about 6% of cornell_glass's speed
 # (benchmarks/results/measurements.md).
 FASTMATH = {"nsz", "arcp", "afn"}
 
