@@ -220,12 +220,16 @@ class _Loader:
         except FieldError as e:
             raise self.fail("render", str(e)) from None
 
+    def check_type(self, kind, what, kinds, noun):
+        """A table's `type` must be one of `kinds` (noun: "a material", ...)."""
+        if not isinstance(kind, str) or kind not in kinds:
+            hint = f"{kind!r} is not {noun} type" if kind is not None else "missing"
+            raise self.fail(what, f"type: {hint}; expected one of: {', '.join(kinds)}")
+
     def material(self, spec, what, name=None):
         spec = self.table(spec, what)
         kind = spec.get("type")
-        if not isinstance(kind, str) or kind not in MATERIALS:
-            hint = f"{kind!r} is not a material type" if kind is not None else "missing"
-            raise self.fail(what, f"type: {hint}; expected one of: {', '.join(MATERIALS)}")
+        self.check_type(kind, what, MATERIALS, "a material")
         what = f"{what} ({kind})"
         args = {k: self.colour_or_texture(v, what, k) if k in TEXTURED_FIELDS else v
                 for k, v in spec.items() if k != "type"}
@@ -250,9 +254,7 @@ class _Loader:
         image_texture; a checker's even and odd are colours or textures too."""
         spec = self.table(spec, what)
         kind = spec.get("type")
-        if not isinstance(kind, str) or kind not in TEXTURES:
-            hint = f"{kind!r} is not a texture type" if kind is not None else "missing"
-            raise self.fail(what, f"type: {hint}; expected one of: {', '.join(TEXTURES)}")
+        self.check_type(kind, what, TEXTURES, "a texture")
         what = f"{what} ({kind})"
         args = {k: v for k, v in spec.items() if k != "type"}
         for k in ("even", "odd"):
@@ -303,10 +305,7 @@ class _Loader:
             raise self.fail(what, f"name: expected a string, got {name!r}")
         if kind == "constant_medium":
             return self.medium(spec, f"{what} ({label(kind, name)})", name)
-        if not isinstance(kind, str) or kind not in SHAPES:
-            hint = f"{kind!r} is not an object type" if kind is not None else "missing"
-            raise self.fail(what, f"type: {hint}; expected one of: "
-                            f"{', '.join([*SHAPES, 'constant_medium'])}")
+        self.check_type(kind, what, [*SHAPES, "constant_medium"], "an object")
         what = f"{what} ({label(kind, name)})"
         if "material" not in spec:
             raise self.fail(what, "material: missing (required)")
@@ -374,9 +373,7 @@ class _Loader:
 
     def classic_light(self, spec, what):
         kind = spec.get("type")
-        if not isinstance(kind, str) or kind not in LIGHTS:
-            hint = f"{kind!r} is not a light type" if kind is not None else "missing"
-            raise self.fail(what, f"type: {hint}; expected one of: {', '.join(LIGHTS)}")
+        self.check_type(kind, what, LIGHTS, "a light")
         args = {k: v for k, v in spec.items() if k != "type"}
         self.check_signature(LIGHTS[kind], args, ("type",), f"{what} ({kind})")
         try:
