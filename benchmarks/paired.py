@@ -15,7 +15,11 @@ per-round ratios; the spread given is their interquartile range.
 
 yardstick: rtweekend's cornell_glass (the books' mixture sampling) against
 ../shared/yardsticks/numba_probe.py (the same scene and estimator) imported as
-a module, with 1 thread and with all.  trees: the rtweekend package of each
+a module, with 1 thread and with all: as shipped (float32, fastmath with
+'reassoc' and 'contract'), and built with rtweekend's fastmath flags in float32
+and float64 (yardstick.BUILDS), all taking turns in the same rounds; then, for
+rtweekend and each build, whether a first render (the process compiles) and the
+next (it loads the cache) give the same bits.  trees: the rtweekend package of each
 source tree imported under its own name (a copy), for before/after
 comparisons of a change; the first tree is the base.
 
@@ -23,14 +27,17 @@ Writes results/paired.json in yardstick mode (--quick: a second per side,
 48x48, no file).
 """
 import importlib
+import os
 import shutil
 import statistics
+import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numba
+import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import yardstick  # noqa: E402
@@ -68,30 +75,80 @@ def renderer_pass(rt, scene, sampling, size=SIZE, spp=SPP):
     return lambda: size * size * spp / r.add_samples(spp)
 
 
-def beside_yardstick(seconds, threads, size=SIZE):
-    """rtweekend / yardstick on cornell_glass, mixture sampling, per thread count."""
+def beside_yardstick(seconds, threads, size=SIZE, builds=tuple(yardstick.BUILDS)):
+    """rtweekend / yardstick on cornell_glass, mixture sampling, per thread count,
+    beside each of the yardstick's `builds` (yardstick.BUILDS) in the same rounds.
+    The top-level figures are the shipped build's."""
     import rtweekend as rt
-    sys.path.insert(0, str(yardstick.PATH.parent))
-    probe = importlib.import_module(yardstick.PATH.stem)
-    probe.render(2, 2, 1)                              # its compile, not timed
+    probes = {b: yardstick.load(b) for b in builds}
+    for probe in probes.values():
+        probe.render(2, 2, 1)                          # its compile, not timed
     out = {}
     for n in threads:
         numba.set_num_threads(n)
         ours = renderer_pass(rt, "cornell_glass", "mixture", size)
         seeds = iter(range(1, 10**9))
 
-        def theirs():
-            _, _, _, seconds_taken, _ = probe.render(size, size, SPP, seed=next(seeds))
-            return size * size * SPP / seconds_taken
-        a, b = take_turns([ours, theirs], seconds)
+        def theirs(probe):
+            def one_pass():
+                _, _, _, seconds_taken, _ = probe.render(size, size, SPP, seed=next(seeds))
+                return size * size * SPP / seconds_taken
+            return one_pass
+        rates = take_turns([ours] + [theirs(p) for p in probes.values()], seconds)
+        a = rates[0]
+        per_build = {b: dict(samples_per_s=statistics.median(r),
+                             ratio=spread([x / y for x, y in zip(a, r)]))
+                     for b, r in zip(probes, rates[1:])}
+        first = per_build[builds[0]]
         out[str(n)] = dict(rtweekend_samples_per_s=statistics.median(a),
-                           yardstick_samples_per_s=statistics.median(b),
-                           ratio=spread([x / y for x, y in zip(a, b)]))
-        r = out[str(n)]["ratio"]
-        print(f"  {n} thread(s): rtweekend {out[str(n)]['rtweekend_samples_per_s'] / 1e6:.2f} M"
-              f" samples/s, yardstick {out[str(n)]['yardstick_samples_per_s'] / 1e6:.2f} M:"
-              f" {r['median']:.3f}x (IQR {r['q1']:.3f}-{r['q3']:.3f}, {r['rounds']} rounds)",
+                           yardstick_samples_per_s=first["samples_per_s"],
+                           ratio=first["ratio"], builds=per_build)
+        print(f"  {n} thread(s): rtweekend {statistics.median(a) / 1e6:.2f} M samples/s",
               flush=True)
+        for b, d in per_build.items():
+            r = d["ratio"]
+            print(f"    yardstick {b:20s} {d['samples_per_s'] / 1e6:.2f} M: {r['median']:.3f}x"
+                  f" (IQR {r['q1']:.3f}-{r['q3']:.3f}, {r['rounds']} rounds)", flush=True)
+    return out
+
+
+RTWEEKEND_IMAGE = """
+import sys, numpy as np, rtweekend as rt
+r = rt.Renderer(rt.load_scene("cornell_glass"), seed=1, sampling="mixture",
+                width=int(sys.argv[1]), height=int(sys.argv[1]))
+r.add_samples(int(sys.argv[2]))
+np.save(sys.argv[3], r.result().image)
+"""
+
+
+def rtweekend_fresh_vs_cached(size=64, spp=16):
+    """yardstick.fresh_vs_cached for rtweekend's cornell_glass (mixture)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(tmp) / "cache"))
+        images = []
+        for i in range(2):
+            out = Path(tmp) / f"image{i}.npy"
+            r = subprocess.run([sys.executable, "-c", RTWEEKEND_IMAGE, str(size), str(spp),
+                                str(out)], env=env, capture_output=True, text=True,
+                               timeout=1800)
+            if r.returncode:
+                raise RuntimeError(f"rtweekend failed:\n{r.stderr[-2000:]}")
+            images.append(np.load(out))
+    return int((images[0] != images[1]).sum()), images[0].size
+
+
+def fresh_vs_cached():
+    """Does the first render (the process compiles the kernel) give the bits of
+    the next (it loads the kernel from the cache)?  rtweekend and each build."""
+    print("the first render against the next (64x64x16: compiled, then from the cache):",
+          flush=True)
+    out = {}
+    for name, check in [("rtweekend", rtweekend_fresh_vs_cached)] + [
+            (f"yardstick {b}", lambda b=b: yardstick.fresh_vs_cached(b))
+            for b in yardstick.BUILDS]:
+        differ, values = check()
+        out[name] = dict(values_that_differ=differ, values=values)
+        print(f"  {name:30s} {differ} of {values} values differ", flush=True)
     return out
 
 
@@ -138,8 +195,10 @@ def main(argv=None):
     out = beside_yardstick(1.0 if a.quick else a.seconds, threads,
                            size=48 if a.quick else SIZE)
     if not a.quick:
+        same_bits = fresh_vs_cached()
         save_json("paired.json", dict(machine=machine(), size=SIZE, spp_per_pass=SPP,
-                                      seconds=a.seconds, threads=out), folder=a.out)
+                                      seconds=a.seconds, threads=out,
+                                      fresh_vs_cached=same_bits), folder=a.out)
 
 
 if __name__ == "__main__":

@@ -157,3 +157,31 @@ def test_paired_benchmark_without_the_yardstick_says_so(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "yardstick not found at" in r.stdout
     assert not (tmp_path / "paired.json").exists()
+
+
+FAKE_YARDSTICK = '''import os
+DT = os.environ.get("PROBE_DTYPE", "f32"); FMODE = os.environ.get("PROBE_FM", "safe")
+FM = {"safe": {"nsz", "reassoc", "contract"},
+      "fast": True}[FMODE]
+'''
+
+
+def test_the_yardstick_is_built_with_rtweekends_flags_in_both_precisions(tmp_path, monkeypatch):
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    import yardstick
+    from rtweekend.kernel.jit import FASTMATH
+    fake = tmp_path / "fake_probe.py"
+    fake.write_text(FAKE_YARDSTICK)
+    monkeypatch.setattr(yardstick, "PATH", fake)
+    monkeypatch.setattr(yardstick, "BUILD_FOLDER", tmp_path / "builds")
+    monkeypatch.delenv("PROBE_FM", raising=False)
+    shipped = yardstick.load("shipped")
+    assert (shipped.FM, shipped.DT) == ({"nsz", "reassoc", "contract"}, "f32")
+    f32, f64 = yardstick.load("rtweekend_flags"), yardstick.load("rtweekend_flags_f64")
+    assert (f32.FM, f32.DT) == (FASTMATH, "f32")
+    assert (f64.FM, f64.DT) == (FASTMATH, "f64")
+    assert f32.__file__ != f64.__file__ != str(fake)     # a Numba cache each
+    assert "PROBE_FM" not in os.environ
+    fake.write_text("FM = {}\n")
+    with pytest.raises(RuntimeError, match="fake_probe.py: its table of fastmath sets"):
+        yardstick.load("rtweekend_flags")
