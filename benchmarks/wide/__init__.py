@@ -17,5 +17,6 @@ intersection loops that LLVM vectorises, and shading grouped by material?"
                 determinism across thread counts)
   asm.py        counts packed SIMD instructions in the compiled kernels
   bench.py      the benchmark: scalar rtweekend vs this, alternated fresh processes
+  paired.py     the same, pass by pass in one process (the ratios to trust)
   README.md     what was measured, and why it wins (weekend) or not (Cornell)
 """
