@@ -4,7 +4,9 @@ import datetime
 import json
 import os
 import platform
+import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import numba
@@ -60,3 +62,22 @@ def parser(doc):
     p.add_argument("--quick", action="store_true", help="tiny run to check the script")
     p.add_argument("--out", type=Path, default=RESULTS, help="output folder")
     return p
+
+
+def first_render_and_next(argv, env=None):
+    """(values that differ, values) between the image a command renders in a
+    process that compiles its kernels (an empty Numba cache) and the one it
+    renders in the next process (kernels loaded from that cache): 0 when its
+    first render and later ones agree to the bit.  argv + [path] must write a
+    NumPy array to path (.npy)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        env = dict(os.environ, **(env or {}), NUMBA_CACHE_DIR=str(Path(tmp) / "cache"))
+        images = []
+        for i in range(2):
+            out = Path(tmp) / f"image{i}"
+            r = subprocess.run([*argv, str(out)], env=env, capture_output=True, text=True,
+                               timeout=1800)
+            if r.returncode:
+                raise RuntimeError(f"{' '.join(argv[:3])} failed:\n{r.stderr[-2000:]}")
+            images.append(np.load(f"{out}.npy"))
+    return int((images[0] != images[1]).sum()), images[0].size

@@ -27,21 +27,18 @@ Writes results/paired.json in yardstick mode (--quick: a second per side,
 48x48, no file).
 """
 import importlib
-import os
 import shutil
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
 
 import numba
-import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import yardstick  # noqa: E402
-from common import machine, save_json  # noqa: E402
+from common import first_render_and_next, machine, save_json  # noqa: E402
 from common import parser as bench_parser  # noqa: E402
 
 SIZE = 300          # pixels a side
@@ -117,24 +114,13 @@ import sys, numpy as np, rtweekend as rt
 r = rt.Renderer(rt.load_scene("cornell_glass"), seed=1, sampling="mixture",
                 width=int(sys.argv[1]), height=int(sys.argv[1]))
 r.add_samples(int(sys.argv[2]))
-np.save(sys.argv[3], r.result().image)
+np.save(sys.argv[3] + ".npy", r.result().image)
 """
 
 
 def rtweekend_fresh_vs_cached(size=64, spp=16):
-    """yardstick.fresh_vs_cached for rtweekend's cornell_glass (mixture)."""
-    with tempfile.TemporaryDirectory() as tmp:
-        env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(tmp) / "cache"))
-        images = []
-        for i in range(2):
-            out = Path(tmp) / f"image{i}.npy"
-            r = subprocess.run([sys.executable, "-c", RTWEEKEND_IMAGE, str(size), str(spp),
-                                str(out)], env=env, capture_output=True, text=True,
-                               timeout=1800)
-            if r.returncode:
-                raise RuntimeError(f"rtweekend failed:\n{r.stderr[-2000:]}")
-            images.append(np.load(out))
-    return int((images[0] != images[1]).sum()), images[0].size
+    """common.first_render_and_next for rtweekend's cornell_glass (mixture)."""
+    return first_render_and_next([sys.executable, "-c", RTWEEKEND_IMAGE, str(size), str(spp)])
 
 
 def fresh_vs_cached():

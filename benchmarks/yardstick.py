@@ -12,8 +12,6 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
-import numpy as np
-
 PATH = Path(os.environ.get("RTWEEKEND_YARDSTICK") or
             Path(__file__).resolve().parents[2] / "shared" / "yardsticks" / "numba_probe.py")
 
@@ -102,19 +100,7 @@ def load(build):
 
 
 def fresh_vs_cached(build, size=64, spp=16):
-    """(values that differ, values) between the yardstick's image rendered by the
-    process that compiles it (empty cache) and by a second one that loads it from
-    the cache: 0 when a build's first render and later ones agree to the bit."""
-    path = build_path(build)
-    with tempfile.TemporaryDirectory() as tmp:
-        env = dict(os.environ, NUMBA_CACHE_DIR=str(Path(tmp) / "cache"), **BUILDS[build])
-        images = []
-        for i in range(2):
-            out = Path(tmp) / f"image{i}"
-            r = subprocess.run([sys.executable, str(path), "image", str(size), str(spp),
-                                str(out)], env=env, capture_output=True, text=True,
-                               timeout=1800)
-            if r.returncode:
-                raise RuntimeError(f"yardstick ({build}) failed:\n{r.stderr[-2000:]}")
-            images.append(np.load(f"{out}.npy"))
-    return int((images[0] != images[1]).sum()), images[0].size
+    """common.first_render_and_next for the yardstick's `build` (its image mode)."""
+    from common import first_render_and_next
+    return first_render_and_next([sys.executable, str(build_path(build)), "image", str(size),
+                                  str(spp)], env=BUILDS[build])
