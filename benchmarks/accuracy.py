@@ -361,6 +361,15 @@ def main(argv=None):
     summary(data)
 
 
+def time_factor(eq, s):
+    """How the time strategy s needs for its error compares with the base's, in
+    words; the base's curve can start after the equal time (a short run)."""
+    f = eq["time_factor_vs_base"][s]
+    if f is None:
+        return f"{eq['base']} not measured this early"
+    return f"{f:.2f}x {eq['base']}'s time for its error"
+
+
 def summary(data):
     print(f"\ntotal {data['total_seconds']:.0f} s")
     for name, d in data["scenes"].items():
@@ -370,8 +379,8 @@ def summary(data):
             slopes += f", Mitsuba {d['peer']['slope']:+.2f}"
         print(f"{name}: slopes {slopes}")
         print(f"  at {eq['seconds']:.2f} s: " + ", ".join(
-            f"{s} RMSE {eq['rmse'][s]:.4f} ({eq['time_factor_vs_base'][s]:.2f}x "
-            f"{eq['base']}'s time for its error)" for s in eq["rmse"] if eq["rmse"][s]))
+            f"{s} RMSE {eq['rmse'][s]:.4f} ({time_factor(eq, s)})"
+            for s in eq["rmse"] if eq["rmse"][s]))
         if d["vs_peer"]:
             print(equal_time_table(name, d))
 

@@ -185,3 +185,40 @@ def test_the_yardstick_is_built_with_rtweekends_flags_in_both_precisions(tmp_pat
     fake.write_text("FM = {}\n")
     with pytest.raises(RuntimeError, match="fake_probe.py: its table of fastmath sets"):
         yardstick.load("rtweekend_flags")
+
+
+# Writes [1, 2, 3] the first time it runs with a Numba cache folder, [1, 2, 4] once
+# that folder holds something: a command whose later runs differ from its first.
+CACHE_AWARE = '''import os, sys, numpy as np
+cache = os.environ["NUMBA_CACHE_DIR"]
+again = os.path.isdir(cache)
+os.makedirs(cache, exist_ok=True)
+np.save(sys.argv[1] + ".npy", np.array([1.0, 2.0, 4.0 if again else 3.0]))
+'''
+
+
+def test_first_render_and_next_share_one_empty_cache_folder():
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    from common import first_render_and_next
+    assert first_render_and_next([sys.executable, "-c", CACHE_AWARE]) == (1, 3)
+    same = "import sys, numpy as np; np.save(sys.argv[1] + '.npy', np.arange(5.0))"
+    assert first_render_and_next([sys.executable, "-c", same]) == (0, 5)
+
+
+def test_accuracy_summary_when_the_base_starts_after_the_equal_time(capsys):
+    # A short run on a busy machine: the base's first pass took longer than the
+    # whole curve of another strategy, so its error at that time is unknown.
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    import accuracy
+    curves = {"mixture+sobol": [dict(spp=1, seconds=0.5, rmse=0.2),
+                                dict(spp=2, seconds=0.9, rmse=0.1)],
+              "cosine": [dict(spp=1, seconds=0.1, rmse=0.4), dict(spp=2, seconds=0.3, rmse=0.3)]}
+    eq = accuracy.equal_time(curves)
+    assert eq["seconds"] == 0.3 and eq["rmse"]["mixture+sobol"] is None
+    assert accuracy.time_factor(eq, "cosine") == "mixture+sobol not measured this early"
+    accuracy.summary(dict(total_seconds=1.0, scenes={"cornell_box": dict(
+        equal_time=eq, slopes={"cosine": -0.5}, peer=None, vs_peer=None)}))
+    assert "cosine RMSE 0.3000 (mixture+sobol not measured this early)" in capsys.readouterr().out
+    eq = accuracy.equal_time({"mixture+sobol": curves["mixture+sobol"],
+                              "cosine": [dict(spp=1, seconds=0.5, rmse=0.4)]})
+    assert accuracy.time_factor(eq, "cosine") == "4.00x mixture+sobol's time for its error"
