@@ -3,7 +3,7 @@ kernel compiled for each feature set a bundled scene uses.
 
     python benchmarks/features.py [--runs 3]
 
-A scene pays only for the features it uses (path/integrator.py: each is an
+A scene pays only for the features it uses (path/integrators/path.py: each is an
 argument that is None when unused, so the kernel of a scene without it has none
 of its code).  For each scene: its feature set, the kernel's cold compile in a
 fresh process with an empty Numba cache (median of --runs), and samples/s after
@@ -32,8 +32,8 @@ from rtweekend.path.renderer import Renderer
 name, size, spp = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 r = Renderer(rt.load_scene(name), seed=1, width=size, height=size)
 f = r.frame
-features = [n for n, v in (("textures", f.textures), ("media", f.media),
-                           ("motion", f.motion)) if v is not None]
+features = [n for n, v in (("textures", f.features.textures), ("media", f.features.media),
+                           ("motion", f.features.motion)) if v is not None]
 compile_s = r.compile()
 r.add_samples(1)                                    # warm-up
 t = r.add_samples(spp)

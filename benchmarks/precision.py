@@ -27,11 +27,12 @@ import numpy as np
 import rtweekend as rt
 from rtweekend.kernel import rng
 from rtweekend.kernel.vec3 import madd
-from rtweekend.path import pdf, shapes
+from rtweekend.path import shapes
 from rtweekend.path.bvh import closest_hit
 from rtweekend.path.camera import get_ray
-from rtweekend.path.integrator import face_normal
 from rtweekend.path.layout import NO_HIT
+from rtweekend.path.materials import lambertian
+from rtweekend.path.surface import face_normal
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import machine, parser, save_json  # noqa: E402
@@ -51,7 +52,7 @@ def nearest(scene, orig, dirs, from_obj, inf, hits):
 @numba.njit
 def _rays(scene, params, seed):
     """The renderer's first two segments of one sample per pixel: the camera ray
-    (get_ray) and, from its hit (closest_hit), a cosine bounce (pdf.cosine_generate)
+    (get_ray) and, from its hit (closest_hit), a cosine bounce (materials/lambertian.py)
     about the facing normal.  (origins, directions, object each ray leaves)."""
     width, height = params.width, params.height
     n = width * height
@@ -66,7 +67,9 @@ def _rays(scene, params, seed):
         if k != NO_HIT:
             p = madd(o, d, t)
             _, normal = face_normal(d, shapes.outward_normal(scene, k, p, None))
-            bounce, state = pdf.cosine_generate(normal, state)
+            u1, state = rng.uniform(state)
+            u2, state = rng.uniform(state)
+            bounce = lambertian.cosine_at(normal, u1, u2)
             orig[m], dirs[m], left[m] = p, bounce, k
             m += 1
     return orig[:m], dirs[:m], left[:m]

@@ -14,7 +14,7 @@ import numba
 
 from .io.progress import Progress, StopOnInterrupt
 from .kernel.calls import Abandoned, call_awake
-from .path.kernel import render_pass
+from .path.integrators import ESTIMATORS
 
 PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
 GROWTH = 4              # a pass does at most this many times the work of the last
@@ -65,8 +65,8 @@ def render_locally(renderer, spp, time):
 
 
 def _compiles():
-    """How many times the render kernel was compiled, not loaded from the cache."""
-    return sum(render_pass.stats.cache_misses.values())
+    """How many times a render kernel was compiled, not loaded from the cache."""
+    return sum(sum(m.render_pass.stats.cache_misses.values()) for m in ESTIMATORS.values())
 
 
 def next_pass(r, spp, budget, last, threads=1):

@@ -20,7 +20,7 @@ from .errors import FieldError, SceneError
 
 @dataclass(frozen=True)
 class Sampling:
-    """A sampling strategy of the path tracer (path/integrator.py).
+    """A sampling strategy of the path tracer (path/integrators/path.py).
 
     light_weight: the share of the lights list in the mixture pdf that draws the
     next direction at a diffuse hit (path/pdf.py): 0 cosine, 0.5 the books' mixture.

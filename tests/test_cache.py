@@ -1,5 +1,6 @@
 """Numba's cache is keyed by the package's sources, so no edit runs stale code;
 and what the compile itself is wrapped in."""
+import math
 import os
 import shutil
 import subprocess
@@ -84,3 +85,37 @@ def test_a_kernel_compiled_here_and_one_loaded_from_the_cache_give_the_same_bits
     compiled, loaded = (run.stdout.strip() for run in runs)
     assert any(tmp_path.rglob("*.nbi")), "the first run saved nothing to the cache"
     assert compiled == loaded
+
+
+STEPS_INLINED = """
+import gc, re
+import rtweekend as rt
+from rtweekend.kernel.jit import _InlinedDispatcher
+from rtweekend.path.integrators import path
+rt.Renderer(rt.load_scene("next_week_final"), width=8, height=8, sampling="nee+sobol").compile()
+ir = "\\n".join(path.render_pass.inspect_llvm().values())
+steps = {c.fndesc.llvm_func_name for d in gc.get_objects() if isinstance(d, _InlinedDispatcher)
+         for c in d.overloads.values()}
+calls = set(re.findall(r'call [^@\\n]*@"?([^"( ]+)', ir))
+print(len(steps), len(calls), len(steps & calls))
+"""
+
+
+def test_every_step_is_inlined_into_the_kernel(tmp_path):
+    # jit_step asks LLVM to inline a step wherever it is called (kernel/jit.py):
+    # the kernel of a scene with every feature and strategy calls none of them.
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))      # compiled here: IR to read
+    run = subprocess.run([sys.executable, "-c", STEPS_INLINED], env=env, capture_output=True,
+                         text=True, timeout=900)
+    assert run.returncode == 0, run.stderr[-2000:]
+    steps, calls, steps_called = map(int, run.stdout.split())
+    assert steps > 50 and calls > 0          # it found the steps, and calls (to libm, say)
+    assert steps_called == 0
+
+
+def test_a_step_called_from_python_runs_through_a_compiled_entry():
+    from rtweekend.kernel.vec3 import dot
+    from rtweekend.path.materials.lambertian import pdf
+    assert pdf((0.0, 0.0, 1.0), (0.0, 0.6, 0.8)) == 0.8 / math.pi
+    assert pdf((0.0, 0.0, 1.0), (0.0, 0.6, -0.8)) == 0.0
+    assert dot((1.0, 2.0, 3.0), (4.0, 5.0, 6.0)) == 32.0

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 import rtweekend as rt
 from rtweekend.path import shapes
 from rtweekend.path.bvh import INF, closest_hit
-from rtweekend.path.integrator import face_normal
+from rtweekend.path.surface import face_normal
 from rtweekend.path.layout import NO_HIT
 from rtweekend.path.pack import pack_scene
 

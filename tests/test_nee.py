@@ -12,10 +12,11 @@ from numba import njit
 import rtweekend as rt
 from rtweekend.kernel import rng
 from rtweekend.options import RenderOptions
-from rtweekend.path import nee
+from rtweekend.path import materials, nee
 from rtweekend.path.layout import NO_HIT, OBJ_MAT, XZ_RECT
 from rtweekend.path.renderer import freeze
 from rtweekend.path.shapes import axis_rect
+from rtweekend.path.surface import NO_PRIM, Surface
 
 
 @njit
@@ -25,17 +26,22 @@ def _weights(scene, k, points, n, light_weight, seed):
     give the continuation reaching the same emitter along the same direction."""
     out = np.full((points.shape[0], 2), np.nan)
     state = rng.seed_state(0, 0, seed)
+    m = scene.obj_i[k, OBJ_MAT]
+    albedo = materials.color(scene, m)
+    wo = n                                  # the path came from above
     for i in range(points.shape[0]):
         p = (points[i, 0], points[i, 1], points[i, 2])
-        e, w, inside, t, c, state = nee.shadow_ray(scene, k, p, n, n, light_weight, state,
-                                                   None, None)
+        hit = Surface(p, n, n, True, np.int64(k), np.int64(NO_PRIM), m, albedo, (0.0, 0.0))
+        bsdf = materials.at(scene, hit)
+        e, w, inside, t, c, state = nee.shadow_ray(scene, p, n, k, bsdf, wo, light_weight,
+                                                   (1.0, 1.0, 1.0), state, None, None)
         if e == NO_HIT:
             continue
         cosine = n[0] * w[0] + n[1] * w[1] + n[2] * w[2]
         p_e = nee.emitter_pdf(scene, e, p, w, k, inside, None)
         radiance = scene.mat_f[scene.obj_i[e, OBJ_MAT], 0]
-        out[i, 0] = c[0] / (radiance * cosine / math.pi / p_e)
-        p_c = nee.continuation_pdf(scene, p, n, light_weight, w, k, inside, None)
+        out[i, 0] = c[0] / (albedo[0] * radiance * cosine / math.pi / p_e)
+        p_c = nee.continuation_pdf(scene, bsdf, wo, p, light_weight, w, k, inside, None)
         out[i, 1] = nee.power_heuristic(p_c, nee.emitter_pdf(scene, e, p, w, k, inside, None))
     return out
 
@@ -45,10 +51,10 @@ def test_mis_weights_of_one_direction_sum_to_one(name):
     frame = freeze(rt.load_scene(name), RenderOptions("path", sampling="nee"))
     books = freeze(rt.load_scene(name), RenderOptions("path", sampling="mixture"))
     # The books' lights list keeps the light; nee's keeps only what does not emit.
-    assert books.events is None
+    assert books.features.events is None
     assert list(books.scene.lights) == sorted([*frame.scene.lights, *frame.scene.emitters])
     scene, params = frame.scene, frame.params
-    assert frame.events == 1 and len(scene.emitters) == 1
+    assert frame.features.events == 1 and len(scene.emitters) == 1
     # The light is no target of the mixture any more; cornell_glass keeps its ball.
     assert len(scene.lights) == (1 if name == "cornell_glass" else 0)
     assert params.light_weight == (0.5 if name == "cornell_glass" else 0.0)

@@ -12,9 +12,11 @@ import pytest
 from numba import njit
 
 import rtweekend as rt
+from rtweekend.kernel import sampler
 from rtweekend.kernel.rng import seed_state, unit_vector
 from rtweekend.path import pdf
-from rtweekend.path.layout import NO_HIT
+from rtweekend.path.layout import LAMBERTIAN, NO_HIT
+from rtweekend.path.materials import Bsdf
 from rtweekend.path.pack import pack_scene
 
 from stats import assert_chi2
@@ -24,11 +26,14 @@ N_SAMPLES = 200_000
 COS_BINS, PHI_BINS, SUB = 24, 48, 32
 
 
+# The shading point is on a lambertian, whose sampling is the mixture's other
+# component; the path came from wo = n.
 @njit
 def _generate(a, p, n, w, count, seed):
     out = np.empty((count, 3))
+    bsdf = Bsdf(np.int64(LAMBERTIAN), (0.5, 0.5, 0.5), 0.0, n, True)
     for i in range(count):
-        d, _ = pdf.mixture_generate(a, p, n, w, seed_state(i, 0, seed), None)
+        d, _, _ = pdf.mixture_sample(a, bsdf, p, w, True, sampler.start(i, 0, seed, 0), None)
         out[i, 0], out[i, 1], out[i, 2] = d
     return out
 
@@ -36,9 +41,10 @@ def _generate(a, p, n, w, count, seed):
 @njit
 def _value(a, p, n, w, dirs):
     out = np.empty(dirs.shape[0])
+    bsdf = Bsdf(np.int64(LAMBERTIAN), (0.5, 0.5, 0.5), 0.0, n, True)
     for i in range(dirs.shape[0]):
         d = (dirs[i, 0], dirs[i, 1], dirs[i, 2])
-        out[i] = pdf.mixture_value(a, p, n, w, d, NO_HIT, False, None)
+        out[i] = pdf.mixture_value(a, bsdf, n, p, w, d, NO_HIT, False, None)
     return out
 
 

@@ -6,7 +6,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from rtweekend.kernel import vec3
-from rtweekend.path.materials import schlick
+from rtweekend.path.materials.dielectric import schlick
 
 angles = st.floats(0.0, 2 * math.pi)
 

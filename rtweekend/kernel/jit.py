@@ -10,30 +10,31 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from numba import config, njit, types
+from numba.core.registry import CPUDispatcher
 from numba.extending import overload
 from numba.np.numpy_support import as_dtype
 
 # fastmath without 'nnan' and 'ninf': those let LLVM assume no NaN/inf exists,
 # which silently breaks `t_max = inf` and the NaN checks that drop bad samples.
 # Nor 'reassoc' and 'contract' (fused multiply-add), which let the result of a
-# sum depend on how the code around it was optimised: a helper Numba compiles on
-# its own (render_row, nee.py's) is also linked into its caller and optimised
-# again there, so the process that compiled a kernel ran one copy and every
-# later process, loading it from the cache, ran the other -- the first render
-# and the next gave different bits for the same seed (whole different paths in
+# sum depend on how the code around it was optimised: a step Numba compiles on
+# its own (jit_step) is also linked into its caller and optimised again there,
+# so the process that compiled a kernel ran one copy and every later process,
+# loading it from the cache, ran the other -- the first render and the next
+# gave different bits for the same seed (whole different paths in
 # bouncing_spheres).  Without them both copies compute the same values
 # (tests/test_cache.py); they were worth about 6% of cornell_glass's speed
 # (benchmarks/results/measurements.md).
 FASTMATH = {"nsz", "arcp", "afn"}
 
 # error_model='numpy': a division by zero gives inf or nan instead of raising,
-# and no kernel pays for the zero checks.  A helper inlined at Numba's level
-# (jit_inline) is compiled with its caller's model, so a test calling it from a
-# plain @njit gets Python's; such helpers guard their own divisions.
+# and no kernel pays for the zero checks.  Every function is compiled with it,
+# steps included, whatever calls them.
 _OPTIONS = dict(cache=True, fastmath=FASTMATH, error_model="numpy")
-# A function compiled on its own and called from compiled code only: no
-# reference counting (its callers hold the arrays), no wrappers for Python.
-_ALONE = dict(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True, **_OPTIONS)
+# A step (jit_step): no reference counting (its callers hold the arrays), no
+# wrappers for Python; caching is switched on by the dispatcher.
+_STEP_OPTIONS = dict(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True,
+                     fastmath=FASTMATH, error_model="numpy")
 
 
 PACKAGE = Path(__file__).resolve().parent.parent
@@ -79,56 +80,78 @@ config.CACHE_DIR = _cache_dir()
 
 
 def jit(fn):
-    """A small helper called from kernels; LLVM inlines what is worth it."""
+    """A small helper of scalars and tuples, also callable from Python (tests);
+    LLVM inlines it where it is worth it."""
     return njit(**_OPTIONS)(fn)
 
 
-def jit_inline(fn):
-    """A hot helper that takes arrays, inlined into its caller by Numba itself.
+class _InlinedDispatcher(CPUDispatcher):
+    """Numba's dispatcher, but LLVM must inline every function it compiles
+    (the LLVM attribute alwaysinline) into whatever calls it."""
 
-    Each call of a compiled function with array arguments increments and
-    decrements every array's reference count (atomic operations); inlining at
-    Numba's level removes them.  It costs compile time, so only for the
-    helpers called per object or per bounce.
+    def add_overload(self, cres):
+        # Freshly compiled, the function is in the library's module; loaded from
+        # the cache, in the bitcode kept for linking (both are what callers link).
+        library = cres.library
+        for module in (library._final_module, library._shared_module):
+            if module is None:
+                continue
+            try:
+                function = module.get_function(cres.fndesc.llvm_func_name)
+            except NameError:
+                continue
+            function.add_function_attribute("alwaysinline")
+        super().add_overload(cres)
+
+    def __call__(self, *args):
+        """From Python (tests, benchmarks): through a compiled function that calls
+        it, made on first use (a step has no wrapper for Python of its own)."""
+        entries = self.__dict__.setdefault("_entries", {})
+        if len(args) not in entries:
+            names = ", ".join(f"a{i}" for i in range(len(args)))
+            space = {"step": self}
+            exec(f"def entry({names}):\n    return step({names})\n", space)
+            entries[len(args)] = njit(fastmath=FASTMATH, error_model="numpy")(space["entry"])
+        return entries[len(args)](*args)
+
+
+def jit_step(fn):
+    """A step of a kernel (a bounce, a shape's distance, a material's sample):
+    compiled once for each signature on its own, then inlined by LLVM into every
+    caller.
+
+    Why not the alternatives: Numba's own inlining (inline="always") copies the
+    callee's IR into each caller and types it again there, and typing is most of
+    a compile (about 1 ms per statement): the path loop written that way took
+    8 s to compile.  A plain call passes every array of a NamedTuple argument,
+    and returns a tuple, through memory: on the per-bounce helpers that cost
+    5-25% of the speed.  Compiled apart and always inlined, each step is typed
+    once and runs as if written in place.
+
+    No reference counting (Numba's NRT off, an option that is not public API):
+    a step takes the kernel's arrays, which the kernel holds for the whole call,
+    and allocates nothing (one that did would fail to compile, loudly).  No
+    wrapper for Python: steps are called from compiled code only (tests call
+    them from their own @njit functions).  The attribute is set on the function
+    after Numba compiles it and before any caller links it in (a Numba internal:
+    tests/test_cache.py checks that kernels hold no call to a step).
     """
-    return njit(inline="always", **_OPTIONS)(fn)
+    dispatcher = _InlinedDispatcher(py_func=fn, locals={}, targetoptions=_STEP_OPTIONS)
+    dispatcher.enable_caching()
+    return dispatcher
 
 
-def jit_leaf(fn):
-    """A small helper that reads one array (a primitive's row, say), compiled on
-    its own without reference counting, for LLVM to inline: no copy of its IR in
-    every caller (Numba-level inlining costs compile time), and no atomic count
-    updates on its array argument.  Called from compiled code only (no wrapper
-    for Python is built)."""
-    return njit(**_ALONE)(fn)
+def jit_kernel(fn):
+    """An estimator's kernel over a list of image rows, called by the drivers
+    from several threads at once (kernel/rows.py).
 
-
-def jit_row(fn):
-    """The per-row function a prange kernel calls, compiled without reference
-    counting (Numba's NRT off).
-
-    The hot helpers take NamedTuples of arrays and are inlined at Numba's level;
-    binding such an argument copies the tuple, and with NRT each copy increments
-    and decrements the count of every array in it (atomic operations, per object
-    tested).  Nothing in a row allocates and the kernel holds every array for
-    the whole call, so the counts are not needed: off, they cost nothing (a
-    Numba option that is not public API; a function that allocates fails to
-    compile, loudly).  Called from the kernel only: no wrapper for Python.
-    """
-    return njit(**_ALONE)(fn)
-
-
-def jit_apart(fn):
-    """A per-bounce helper that takes NamedTuples, compiled once on its own
-    (reference counting off, as jit_row) and called, not inlined: for code whose
-    inlined copy would carry another copy of the dispatch on every primitive kind
-    (seconds of compile) and which runs rarely enough for a call to cost nothing
-    measurable (path/nee.py)."""
-    return njit(**_ALONE)(fn)
+    nogil: it releases the GIL, so threads render rows side by side, and the
+    main thread stays awake to Ctrl-C while it runs (kernel/calls.py)."""
+    return njit(nogil=True, **_OPTIONS)(fn)
 
 
 def jit_parallel(fn):
-    """A kernel with a `prange` loop over rows (path/kernel.py, classic/kernel.py).
+    """A kernel with a `prange` loop over rows (classic/kernel.py).
 
     nogil: the drivers call it from a worker thread while the main thread
     waits awake to Ctrl-C (kernel/calls.py); it releases the GIL, or the main

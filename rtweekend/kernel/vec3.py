@@ -8,6 +8,17 @@ from .jit import jit
 
 
 @jit
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+@jit
+def mul(a, b):
+    """Componentwise: a colour times a colour."""
+    return (a[0] * b[0], a[1] * b[1], a[2] * b[2])
+
+
+@jit
 def sub(a, b):
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 

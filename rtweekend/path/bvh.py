@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ..kernel.jit import jit, jit_inline, like
+from ..kernel.jit import jit, jit_step, like
 from . import shapes
 from .layout import NO_HIT, OBJ_KIND
 
@@ -128,7 +128,7 @@ def reciprocal(x):
     return like(x, 1.0) / x if x != 0.0 else math.copysign(like(x, INF), x)
 
 
-@jit_inline
+@jit_step
 def box_entry(bvh_box, i, o, inv_d, t_max):
     """Does the ray enter box i before t_max?  (slab test, inv_d = 1 / d)"""
     t0 = (bvh_box[i, 0] - o[0]) * inv_d[0]
@@ -143,7 +143,7 @@ def box_entry(bvh_box, i, o, inv_d, t_max):
     return near <= far and far > 0.0 and near < t_max
 
 
-@jit_inline
+@jit_step
 def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
     """(object index, t) of the nearest hit before t_max, or (NO_HIT, inf), for a
     ray leaving object from_obj (NO_HIT: none; from_inside: into its ball), at
@@ -153,7 +153,7 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
     described above.
     """
     bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
-    best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrator.py)
+    best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrators/path.py)
     # One loop for both cases, so shapes.distance is inlined at one call site
     # only (each inlined copy costs compile time): no BVH is a single leaf node.
     no_bvh = bvh_node.shape[0] == 0

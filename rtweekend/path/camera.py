@@ -7,8 +7,8 @@ import math
 
 import numpy as np
 
-from ..kernel import rng
-from ..kernel.jit import jit_inline
+from ..kernel import rng, sampler
+from ..kernel.jit import jit_step
 
 # Columns of the packed camera (each a 3-vector but LENS).
 ORIGIN = 0           # lookfrom
@@ -37,7 +37,17 @@ def pack_camera(camera):
                            [camera.aperture / 2.0]])
 
 
-@jit_inline
+@jit_step
+def sample_ray(cam, x, y, width, height, smp):
+    """(origin, unit direction, smp) of a ray through pixel (x, y): its position
+    in the pixel is the sampler's next 2-D point, its place on the lens from the
+    stream."""
+    jx, jy, smp = sampler.next_2d(smp)
+    o, d, state = get_ray_at(cam, x, y, width, height, jx, jy, smp.state)
+    return o, d, sampler.resume(smp, state)
+
+
+@jit_step
 def get_ray(cam, x, y, width, height, state):
     """(origin, unit direction, state) of a jittered ray through pixel (x, y)."""
     jx, state = rng.uniform(state)
@@ -45,7 +55,7 @@ def get_ray(cam, x, y, width, height, state):
     return get_ray_at(cam, x, y, width, height, jx, jy, state)
 
 
-@jit_inline
+@jit_step
 def get_ray_at(cam, x, y, width, height, jx, jy, state):
     """get_ray with the position in the pixel given: (x + jx, y + jy)."""
     s = (x + jx) / width

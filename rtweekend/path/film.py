@@ -14,7 +14,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel.jit import jit_inline
+from ..kernel.jit import jit_step
 from ..result import FIREFLY_FACTOR
 
 BINS_PER_OCTAVE = 16
@@ -72,7 +72,7 @@ def merge(film, other):
         mine += theirs
 
 
-@jit_inline
+@jit_step
 def add_sample(film, y, x, s, lr, lg, lb, clamp, er, eg, eb):
     """Add sample s of pixel (x, y), radiance (lr, lg, lb), capped at clamp.
 

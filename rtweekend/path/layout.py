@@ -1,11 +1,12 @@
 """What the path tracer's kernels read: the tags, the shared columns, and the
 NamedTuples that carry the arrays.
 
-The kernels take three NamedTuples of flat arrays and scalars (named, so a
+The kernels take NamedTuples of flat arrays and scalars (named, so a
 kernel reads `scene.obj_f`, never the 20th positional argument):
 
   SceneArrays  the objects, materials, lights, background and BVH (here)
   PathParams   the camera, image size, seed, depth, sampling and clamp (here)
+  Features     what the kernel is compiled with (here)
   Film         the running sums of an image (film.py)
 
 Objects (primitives) are rows of obj_i (kind tag, material) and obj_f (the
@@ -85,3 +86,15 @@ class PathParams(NamedTuple):
     max_depth: int         # ray segments per path
     light_weight: float    # the mixture's share of light sampling (pdf.py)
     clamp: float           # cap on each sample's channels; inf: none
+    pairs: int             # Sobol pairs per sample (kernel/sampler.py); 0: the stream only
+
+
+class Features(NamedTuple):
+    """What a kernel is compiled with or without: each None when unused, so that
+    a scene and a strategy pay only for what they use (the kernel's `is None`
+    tests on its arguments are pruned by Numba).  Unpacked into the kernel's
+    arguments in one place (renderer.render_samples)."""
+    events: object = None    # next-event estimation: the roulette's first segment (0: none)
+    textures: object = None  # textures.TextureArrays
+    media: object = None     # int64 [K]: the constant media's objects
+    motion: object = None    # 0 when something moves

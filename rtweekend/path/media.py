@@ -13,10 +13,11 @@ special.  Overlapping media add their densities (the minimum of independent
 exponential flights is one flight at the summed density).
 
 At a scattering point the new direction comes from the phase function
-(uniform over the sphere, 1 / 4 pi), mixed with the light pdf as the books mix
-it with the cosine lobe at a surface; the throughput is multiplied by
-albedo x phase / pdf.  A shadow ray (next-event estimation from a surface)
-through media carries their transmittance exp(-density x length inside).
+(materials/isotropic.py: uniform over the sphere, 1 / 4 pi), mixed with the
+light pdf as the books mix it with the cosine lobe at a surface; the
+throughput is multiplied by albedo x phase / pdf.  A shadow ray (next-event
+estimation from a surface) through media carries their transmittance
+exp(-density x length inside).
 
 The kernel takes the media's object indices only when the scene has media;
 otherwise the argument is None and Numba compiles none of this.
@@ -25,23 +26,23 @@ import math
 
 import numpy as np
 
-from ..kernel import rng
-from ..kernel.jit import jit_inline
+from ..kernel import sampler
+from ..kernel.jit import jit_step
 from . import pdf, shapes
 from .layout import MAT_PARAM, NO_HIT, OBJ_MAT
+from .materials import isotropic
 
-INV_4PI = 1.0 / (4.0 * math.pi)
 
-
-@jit_inline
+@jit_step
 def density(scene, k):
     return scene.mat_f[scene.obj_i[k, OBJ_MAT], MAT_PARAM]
 
 
-@jit_inline
-def free_flight(scene, media, o, d, t_surface, time, state):
-    """(medium, t, state): the medium object in which the ray o + t d scatters
-    first and where, before t_surface; (NO_HIT, t_surface) if none."""
+@jit_step
+def free_flight(scene, media, o, d, t_surface, time, smp):
+    """(medium, t, smp): the medium object in which the ray o + t d scatters
+    first and where, before t_surface; (NO_HIT, t_surface) if none.  One number
+    of the stream per medium the ray crosses."""
     best = np.int64(NO_HIT)
     t_best = t_surface
     for j in range(media.shape[0]):
@@ -51,15 +52,15 @@ def free_flight(scene, media, o, d, t_surface, time, state):
         t1 = min(t1, t_best)
         if t0 < t1:
             sigma = density(scene, k)
-            u, state = rng.uniform(state)
+            u, smp = sampler.uniform(smp)
             if sigma > 0.0:
                 t = t0 - math.log(1.0 - u) / sigma
                 if t < t1:
                     best, t_best = k, t
-    return best, t_best, state
+    return best, t_best, smp
 
 
-@jit_inline
+@jit_step
 def transmittance(scene, media, o, d, t_max, time):
     """The fraction of light that crosses every medium between o and o + t_max d."""
     tau = 0.0
@@ -73,18 +74,20 @@ def transmittance(scene, media, o, d, t_max, time):
     return math.exp(-tau)
 
 
-@jit_inline
-def phase_scatter(scene, p, light_weight, use_lights, time, state):
-    """(direction, phase / pdf, state) at a scattering point p: uniform over the
-    sphere, or mixed with the light pdf (weight light_weight)."""
+@jit_step
+def phase_scatter(scene, p, light_weight, use_lights, time, smp):
+    """(direction, phase / pdf, smp) at a scattering point p: the phase
+    function's own sampling (isotropic: uniform over the sphere), or mixed with
+    the light pdf (weight light_weight)."""
     if not use_lights:
-        d, state = rng.unit_vector(state)
-        return d, 1.0, state
-    u, state = rng.uniform(state)
+        d, state = isotropic.sample(smp.state)
+        return d, 1.0, sampler.resume(smp, state)
+    u, smp = sampler.uniform(smp)
     if u < light_weight:
-        d, state = pdf.lights_generate(scene, p, state, time)
+        d, smp = pdf.lights_generate(scene, p, smp, time)
     else:
-        d, state = rng.unit_vector(state)
-    mixed = (1.0 - light_weight) * INV_4PI + \
+        d, state = isotropic.sample(smp.state)
+        smp = sampler.resume(smp, state)
+    mixed = (1.0 - light_weight) * isotropic.pdf() + \
         light_weight * pdf.lights_value(scene, p, d, NO_HIT, False, time)
-    return d, INV_4PI / mixed, state
+    return d, isotropic.pdf() / mixed, smp

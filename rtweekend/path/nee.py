@@ -21,15 +21,19 @@ site: each inlined copy of the search costs seconds of compile) up to the
 distance of the point it aims at: it counts if nothing but that emitter is met
 before (the emitter itself may be, by a rounding: its distance computed inlined
 in the search can differ in the last bit from the one computed here).
-shadow_ray and emitter_pdf are compiled apart and called, not inlined.
+shadow_ray and emitter_pdf are compiled apart and called, not inlined.  The
+material at p is asked, never its kind: its density of the shadow ray's
+direction (materials.pdf: 0 below a lambertian) and f |cos| (materials.eval).
 """
 from ..kernel import rng
-from ..kernel.jit import jit, jit_apart, jit_inline
+from ..kernel.jit import jit, jit_step
 from ..kernel.vec3 import dot, madd
 from . import materials, pdf, shapes
 from . import textures as texturing
 from .bvh import INF
 from .layout import NO_HIT, OBJ_MAT
+
+NONE = (0.0, 0.0, 0.0)
 
 
 @jit
@@ -39,7 +43,7 @@ def power_heuristic(pdf_a, pdf_b):
     return a2 / (a2 + pdf_b * pdf_b)
 
 
-@jit_apart
+@jit_step
 def emitter_pdf(scene, k, p, d, from_obj, from_inside, time):
     """Solid-angle density at p of direction d under next-event sampling, for
     the emitter k that d reaches (0 where d misses it)."""
@@ -47,49 +51,55 @@ def emitter_pdf(scene, k, p, d, from_obj, from_inside, time):
         scene.emitters.shape[0]
 
 
-@jit_inline
-def continuation_pdf(scene, p, n, light_weight, d, from_obj, from_inside, time):
-    """Density of d under the continuation pdf at a diffuse hit."""
+@jit_step
+def continuation_pdf(scene, bsdf, wo, p, light_weight, d, from_obj, from_inside, time):
+    """Density of d under the continuation at a smooth hit (material record
+    bsdf): the mixture with the lights list, or the material's own sampling."""
     if light_weight > 0.0:
-        return pdf.mixture_value(scene, p, n, light_weight, d, from_obj, from_inside, time)
-    return pdf.cosine_value(n, d)
+        return pdf.mixture_value(scene, bsdf, wo, p, light_weight, d, from_obj, from_inside,
+                                 time)
+    return materials.pdf(bsdf, wo, d)
 
 
-@jit_apart
-def shadow_ray(scene, k, p, n, n_out, light_weight, state, time, textures):
-    """One next-event sample at p on diffuse object k (unit normal n facing the
-    incoming ray; outward normal n_out): (emitter, direction, from_inside, t,
-    (r, g, b), state).
+@jit_step
+def shadow_ray(scene, p, n_out, k, bsdf, wo, light_weight, beta, state, time, textures):
+    """One next-event sample at the point p of object k (outward normal n_out;
+    its material: bsdf), reached by a path of throughput beta coming from wo:
+    (emitter, direction, from_inside, t, (r, g, b), state).
 
     The shadow ray leaves p along the direction and reaches the sampled emitter
     at distance t; if nothing else is met before t (the integrator traces it),
-    it adds (r, g, b) x albedo x throughput: the emitter's radiance there (0 on
-    its back: one-sided) x MIS weight x f cos / p_e per unit albedo (Lambertian:
-    f = albedo / pi).  emitter NO_HIT: nothing to trace (a direction below the
-    surface, a zero density, or the emitter's back).
+    it adds (r, g, b): beta x the emitter's radiance there (0 on its back:
+    one-sided) x MIS weight x f |cos| / p_e.  emitter NO_HIT: nothing to trace
+    (a direction the material gives nothing, a zero density, or the emitter's
+    back).  Numbers of the stream (state: the sampler's stream, passed alone
+    because this function is called, not inlined): one for the emitter, then
+    the emitter's own.
     """
     emitters = scene.emitters
     u, state = rng.uniform(state)
     e = emitters[min(int(u * emitters.shape[0]), emitters.shape[0] - 1)]
     w, state = shapes.sample_toward(scene, e, p, state, time)
-    cosine = dot(n, w)
     inside = shapes.enters(scene, k, n_out, w)
-    none = (0.0, 0.0, 0.0)
-    p_e = emitter_pdf(scene, e, p, w, k, inside, time) if cosine > 0.0 else 0.0
+    gives = materials.pdf(bsdf, wo, w) > 0.0
+    p_e = emitter_pdf(scene, e, p, w, k, inside, time) if gives else 0.0
     if p_e <= 0.0:
-        return NO_HIT, w, inside, INF, none, state
+        return NO_HIT, w, inside, INF, NONE, state
     t = shapes.distance(scene, e, p, w, INF, k, inside, time)
     if not t < INF:
-        return NO_HIT, w, inside, INF, none, state
+        return NO_HIT, w, inside, INF, NONE, state
     q = madd(p, w, t)
     front = dot(w, shapes.outward_normal(scene, e, q, time)) < 0.0
     m = scene.obj_i[e, OBJ_MAT]
     color = materials.color(scene, m)
     if textures is not None:
         color = texturing.color_at(scene, textures, m, e, q, color, time)
-    emits, radiance = materials.emitted(scene, m, front, color)
+    emits, radiance = materials.emitted_by(scene, m, front, color)
     if not emits:
-        return NO_HIT, w, inside, INF, none, state
-    p_c = continuation_pdf(scene, p, n, light_weight, w, k, inside, time)
-    c = power_heuristic(p_e, p_c) * cosine * pdf.INV_PI / p_e
-    return e, w, inside, t, (radiance[0] * c, radiance[1] * c, radiance[2] * c), state
+        return NO_HIT, w, inside, INF, NONE, state
+    p_c = continuation_pdf(scene, bsdf, wo, p, light_weight, w, k, inside, time)
+    att, f = materials.eval(bsdf, wo, w, power_heuristic(p_e, p_c))
+    c = f / p_e
+    return e, w, inside, t, (beta[0] * att[0] * (radiance[0] * c),
+                             beta[1] * att[1] * (radiance[1] * c),
+                             beta[2] * att[2] * (radiance[2] * c)), state

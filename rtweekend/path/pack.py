@@ -72,7 +72,7 @@ def scene_materials(scene):
 
 def pack_features(scene, arrays):
     """(textures, media, motion) of The Next Week's features, each None when the
-    scene does not use it (integrator.py): TextureArrays, the media's object
+    scene does not use it (integrators/path.py): TextureArrays, the media's object
     indices (int64), and 0 when a sphere moves."""
     textures = pack_textures(scene_materials(scene)[0])
     media = np.flatnonzero(arrays.mat_i[arrays.obj_i[:, OBJ_MAT]] == ISOTROPIC)
@@ -123,7 +123,7 @@ def dark_sides(arrays):
     emitters when every one of them is a one-sided rect (diffuse_light emits
     from its front only), else none.  A point behind all of them gets no light
     from any: a strategy with Sampling.facing does not sample the lights there
-    (integrator.py).  Attractors (lights that do not emit) do not count."""
+    (pdf.mixture_weight).  Attractors (lights that do not emit) do not count."""
     sides = []
     for k in arrays.lights:
         if arrays.mat_i[arrays.obj_i[k, OBJ_MAT]] != DIFFUSE_LIGHT:

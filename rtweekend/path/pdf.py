@@ -1,57 +1,53 @@
-"""Direction PDFs of The Rest of Your Life: cosine, lights, and their mixture.
+"""Direction PDFs of The Rest of Your Life: the lights' pdf, and its mixture with
+the material's own sampling.
 
 Every density is over solid angle at the shading point p, for unit directions.
 A light pdf is the books' hittable_pdf: the density of directions from p that
 hit the light, whatever lies in between (occlusion is the integrator's job).
-How each kind of light is sampled is its own (shapes/<kind>.py).
+How each kind of light is sampled is its own (shapes/<kind>.py).  The
+mixture's other component is the material's sampling (materials.py): for the
+books' lambertian, their cosine_pdf.
 """
-import math
-
-from ..kernel import rng
-from ..kernel.jit import jit, jit_inline
-from ..kernel.vec3 import dot, local, onb
-from . import shapes
-
-INV_PI = 1.0 / math.pi
+from ..kernel import sampler
+from ..kernel.jit import jit_step
+from . import materials, shapes
 
 
-# -- cosine pdf: p(w) = cos(theta) / pi about the normal n ----------------------
-
-@jit
-def cosine_generate(n, state):
-    u1, state = rng.uniform(state)
-    u2, state = rng.uniform(state)
-    return cosine_at(n, u1, u2), state
-
-
-@jit
-def cosine_at(n, u1, u2):
-    """The direction of cosine_generate for the uniforms (u1, u2)."""
-    phi = rng.TWO_PI * u1
-    s = math.sqrt(u2)
-    z = math.sqrt(max(0.0, 1.0 - u2))
-    u, v = onb(n)
-    return local(u, v, n, (math.cos(phi) * s, math.sin(phi) * s, z))
+@jit_step
+def behind_every_light(sides, p):
+    """Is p behind every half-space of `sides` (pack.dark_sides; none: no)?"""
+    if sides.shape[0] == 0:
+        return False
+    for j in range(sides.shape[0]):
+        if sides[j, 0] * p[0] + sides[j, 1] * p[1] + sides[j, 2] * p[2] >= sides[j, 3]:
+            return False
+    return True
 
 
-@jit
-def cosine_value(n, d):
-    c = dot(n, d)
-    return c * INV_PI if c > 0.0 else 0.0
+@jit_step
+def mixture_weight(scene, p, light_weight):
+    """The mixture's weight on the lights list at p: 0 where no light of it
+    shines (Sampling.facing: scene.dark_sides, empty for the other strategies),
+    so that the material's sampling alone draws there."""
+    if scene.dark_sides.shape[0] > 0 and behind_every_light(scene.dark_sides, p):
+        return 0.0
+    return light_weight
 
 
 # -- all lights, one chosen uniformly (the books' hittable_list pdf) --------------
 
-@jit_inline
-def lights_generate(scene, p, state, time):
-    """A unit direction from p towards one light chosen uniformly."""
+@jit_step
+def lights_generate(scene, p, smp, time):
+    """A unit direction from p towards one light chosen uniformly (numbers of the
+    stream: one for the light, then the light's own)."""
     lights = scene.lights
-    u, state = rng.uniform(state)
+    u, smp = sampler.uniform(smp)
     k = lights[min(int(u * lights.shape[0]), lights.shape[0] - 1)]
-    return shapes.sample_toward(scene, k, p, state, time)
+    w, state = shapes.sample_toward(scene, k, p, smp.state, time)
+    return w, sampler.resume(smp, state)
 
 
-@jit_inline
+@jit_step
 def lights_value(scene, p, d, from_obj, from_inside, time):
     """Solid-angle density at p of direction d under lights_generate.
 
@@ -65,33 +61,50 @@ def lights_value(scene, p, d, from_obj, from_inside, time):
     return total / lights.shape[0]
 
 
-# -- the mixture at a diffuse hit (The Rest of Your Life, chapter "Mixing") -------
+# -- the mixture at a smooth hit (The Rest of Your Life, chapter "Mixing") ---------
 
-@jit_inline
-def mixture_generate(scene, p, n, light_weight, state, time):
-    """A unit direction from (1 - w) cosine + w lights (w = light_weight)."""
-    u, state = rng.uniform(state)
-    if u < light_weight:
-        return lights_generate(scene, p, state, time)
-    return cosine_generate(n, state)
+@jit_step
+def mixture_sample(scene, bsdf, p, light_weight, use_lights, smp, time):
+    """(direction, weight, smp): a direction from (1 - w) material + w lights
+    (w = light_weight, 0 without use_lights), and the material's weight when
+    its component drew it.
 
-
-@jit_inline
-def mixture_at(scene, p, n, light_weight, u1, u2, state, time):
-    """mixture_generate from a 2-D point (u1, u2) (a low-discrepancy one): u1 <
-    light_weight picks a light, by u1 / light_weight (its direction from the
-    stream); otherwise ((u1 - w) / (1 - w), u2) is the cosine lobe's point, so
-    stratified points stay stratified over the lobe."""
-    if u1 < light_weight:
+    With the lights list (use_lights), the books' way: one number of the stream
+    picks the component, then the component draws its own (the light: one to
+    pick it, then the shape's; the material: a 2-D point).  When the sampler
+    has a low-discrepancy point left, or without lights, one 2-D point (u1, u2)
+    decides both: u1 < w picks a light, by u1 / w (its direction from the
+    stream); otherwise ((u1 - w) / (1 - w), u2) is the material's point, so
+    that stratified points stay stratified over its lobe."""
+    pick, v1, v2 = 0.0, 0.0, 0.0
+    if sampler.low_discrepancy(smp) or not use_lights:
+        u1, u2, smp = sampler.next_2d(smp)
+        light = u1 < light_weight
+        if light:
+            pick = u1 / light_weight
+        else:
+            v1, v2 = (u1 - light_weight) / (1.0 - light_weight), u2
+    else:
+        u, smp = sampler.uniform(smp)
+        light = u < light_weight
+        if light:
+            pick, smp = sampler.uniform(smp)
+        else:
+            v1, smp = sampler.uniform(smp)
+            v2, smp = sampler.uniform(smp)
+    if light:
         lights = scene.lights
-        k = lights[min(int(u1 / light_weight * lights.shape[0]), lights.shape[0] - 1)]
-        return shapes.sample_toward(scene, k, p, state, time)
-    return cosine_at(n, (u1 - light_weight) / (1.0 - light_weight), u2), state
+        k = lights[min(int(pick * lights.shape[0]), lights.shape[0] - 1)]
+        w, state = shapes.sample_toward(scene, k, p, smp.state, time)
+        return w, materials.NO_COLOR, sampler.resume(smp, state)
+    wi, weight, _ = materials.sample_at(bsdf, v1, v2)
+    return wi, weight, smp
 
 
-@jit_inline
-def mixture_value(scene, p, n, light_weight, d, from_obj, from_inside, time):
-    value = (1.0 - light_weight) * cosine_value(n, d)
+@jit_step
+def mixture_value(scene, bsdf, wo, p, light_weight, d, from_obj, from_inside, time):
+    """Density of d under the mixture (the material's share from materials.pdf)."""
+    value = (1.0 - light_weight) * materials.pdf(bsdf, wo, d)
     if light_weight > 0.0:
         value += light_weight * lights_value(scene, p, d, from_obj, from_inside, time)
     return value

@@ -18,14 +18,14 @@ import numpy as np
 from ..kernel.jit import collector_paused
 from .. import checks, memory
 from ..errors import FieldError, SceneError
-from ..kernel.rows import interleaved_rows
+from ..kernel.rows import interleaved_rows, on_threads
 from ..options import RenderOptions, thread_count
 from ..result import RenderResult, RenderStats
 from . import film as films
 from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
-from .kernel import render_pass
-from .layout import PathParams, SceneArrays
+from .integrators import ESTIMATORS
+from .layout import Features, PathParams, SceneArrays
 from .pack import dark_sides, pack_features, pack_scene
 
 
@@ -34,20 +34,8 @@ class Frame(NamedTuple):
     scene: SceneArrays
     params: PathParams
     rows: np.ndarray        # the order rows go to threads
-    # Next-event estimation (integrator.py): None for the books' estimators, else
-    # the segment from which Russian roulette may end paths (0: never).  Passed
-    # to the kernel as an argument of its own, so that the books' kernel is
-    # compiled without any of it (Numba prunes `is None` branches on arguments).
-    events: int | None = None
-    # Low-discrepancy samples (integrator.py): None for the independent stream
-    # only, else 0 (pruned the same way).
-    quasi: int | None = None
-    # The Next Week's features, each None when the scene does not use it (so
-    # a scene pays for none it does not use): textures.TextureArrays, the
-    # media's object indices, 0 when something moves (pack.pack_features).
-    textures: object = None
-    media: object = None
-    motion: int | None = None
+    features: Features = Features()   # what the kernel is compiled with (layout.py)
+    estimator: str = "path"           # which of integrators.ESTIMATORS renders it
 
     @property
     def width(self):
@@ -56,6 +44,11 @@ class Frame(NamedTuple):
     @property
     def height(self):
         return self.params.height
+
+
+# Sobol pairs per sample for the +sobol strategies: the position in the pixel
+# and the first smooth bounce (kernel/sampler.py); the rest from the stream.
+SOBOL_PAIRS = 2
 
 
 def freeze(scene, options):
@@ -78,18 +71,25 @@ def freeze(scene, options):
     params = PathParams(cam=pack_camera(camera), width=camera.width, height=camera.height,
                         seed=options.seed, max_depth=max_depth,
                         light_weight=strategy.light_weight if len(arrays.lights) else 0.0,
-                        clamp=options.clamp_value)
-    return Frame(arrays, params, interleaved_rows(camera.height),
-                 strategy.roulette_depth if next_event else None,
-                 0 if strategy.sobol else None, *pack_features(scene, arrays))
+                        clamp=options.clamp_value, pairs=SOBOL_PAIRS if strategy.sobol else 0)
+    features = Features(strategy.roulette_depth if next_event else None,
+                        *pack_features(scene, arrays))
+    return Frame(arrays, params, interleaved_rows(camera.height), features)
 
 
 def render_samples(frame, film, s0, s1, rows=None):
     """Add samples s0 .. s1 - 1 of every pixel (of `rows` only: a slice of
     frame.rows) to `film`.  A pixel's sums depend on its sample indices only,
     so rows rendered in several parts give the bits of one whole pass."""
-    render_pass(film, frame.scene, frame.params, frame.rows if rows is None else rows, s0, s1,
-                frame.events, frame.quasi, frame.textures, frame.media, frame.motion)
+    render_pass = kernel(frame).render_pass
+    on_threads(lambda part: render_pass(film, frame.scene, frame.params, part, s0, s1,
+                                        *frame.features),
+               frame.rows if rows is None else rows, numba.get_num_threads() if s1 > s0 else 1)
+
+
+def kernel(frame):
+    """The module of the estimator that renders `frame` (integrators/)."""
+    return ESTIMATORS[frame.estimator]
 
 
 def block_film(frame, s0, s1):

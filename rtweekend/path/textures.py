@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel.jit import jit, jit_inline
+from ..kernel.jit import jit, jit_step
 from . import shapes
 from .layout import NO_HIT
 
@@ -170,7 +170,7 @@ def image_value(texels, images, i, u, v):
     return (texels[j, 0], texels[j, 1], texels[j, 2])
 
 
-@jit_inline
+@jit_step
 def value(textures, t, u, v, p):
     """Texture t's colour at the surface point p with coordinates (u, v)."""
     tex_i, tex_f = textures.tex_i, textures.tex_f
@@ -188,14 +188,21 @@ def value(textures, t, u, v, p):
     return (tex_f[t, 0], tex_f[t, 1], tex_f[t, 2])
 
 
-@jit_inline
-def color_at(scene, textures, m, k, p, color, time):
-    """Material m's colour at p on object k (NO_HIT: a point inside a medium,
-    which has no (u, v)): its texture's value there, or `color` if untextured."""
+@jit_step
+def color_and_uv(scene, textures, m, k, p, color, time):
+    """(colour, (u, v)): material m's colour at p on object k (NO_HIT: a point
+    inside a medium, which has no (u, v)) -- its texture's value there, or
+    `color` if untextured -- and the coordinates it was looked up with."""
     t = textures.mat_tex[m]
     if t < 0:
-        return color
+        return color, (0.0, 0.0)
     u, v = 0.0, 0.0
     if k != NO_HIT:
         u, v = shapes.uv(scene, k, p, time)
-    return value(textures, t, u, v, p)
+    return value(textures, t, u, v, p), (u, v)
+
+
+@jit_step
+def color_at(scene, textures, m, k, p, color, time):
+    """The colour of color_and_uv."""
+    return color_and_uv(scene, textures, m, k, p, color, time)[0]

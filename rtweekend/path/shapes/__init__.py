@@ -30,7 +30,7 @@ kind knows where it can be met again.
 """
 import math
 
-from ...kernel.jit import jit_inline, like
+from ...kernel.jit import jit_step, like
 from ..layout import BOX, OBJ_KIND, RECT, SPHERE, XY_RECT, XZ_RECT, YZ_RECT
 from . import axis_rect, box, rect, sphere
 
@@ -49,7 +49,7 @@ def bounds(kind, row):
     return MODULES[kind].bounds(row)
 
 
-@jit_inline
+@jit_step
 def distance(scene, k, o, d, t_max, from_obj, from_inside, time):
     """Distance to object k for a ray leaving object from_obj (NO_HIT: none)."""
     kind = scene.obj_i[k, OBJ_KIND]
@@ -70,7 +70,7 @@ def distance(scene, k, o, d, t_max, from_obj, from_inside, time):
     return like(t_max, NAN)
 
 
-@jit_inline
+@jit_step
 def outward_normal(scene, k, p, time):
     """Unit normal at p on object k, pointing to its front side."""
     kind = scene.obj_i[k, OBJ_KIND]
@@ -90,7 +90,7 @@ def outward_normal(scene, k, p, time):
     return (NAN, NAN, NAN)
 
 
-@jit_inline
+@jit_step
 def enters(scene, k, n, d):
     """Does a ray leaving object k along d, where its outward normal is n, go
     inside it?  (from_inside of the next segment: where k may be met again)"""
@@ -107,7 +107,7 @@ def enters(scene, k, n, d):
     return False
 
 
-@jit_inline
+@jit_step
 def sample_toward(scene, k, p, state, time):
     """A unit direction from p towards object k, drawn by its own light sampling."""
     kind = scene.obj_i[k, OBJ_KIND]
@@ -127,7 +127,7 @@ def sample_toward(scene, k, p, state, time):
     return (NAN, NAN, NAN), state
 
 
-@jit_inline
+@jit_step
 def pdf_toward(scene, k, p, d, from_obj, from_inside, time):
     """Density of d under sample_toward(k) at p; 0 where d misses object k."""
     kind = scene.obj_i[k, OBJ_KIND]
@@ -148,7 +148,7 @@ def pdf_toward(scene, k, p, d, from_obj, from_inside, time):
     return NAN
 
 
-@jit_inline
+@jit_step
 def uv(scene, k, p, time):
     """Texture coordinates (u, v) of the point p on object k."""
     kind = scene.obj_i[k, OBJ_KIND]
@@ -168,7 +168,7 @@ def uv(scene, k, p, time):
     return (NAN, NAN)
 
 
-@jit_inline
+@jit_step
 def interval(scene, k, o, d, time):
     """(t0, t1) where the line o + t d is inside closed object k (a sphere or a
     box: a constant medium's boundary); t0 > t1 if never."""

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from ...kernel import rng
-from ...kernel.jit import jit_leaf, like
+from ...kernel.jit import jit_step, like
 
 INF = math.inf
 A0 = 0
@@ -52,7 +52,7 @@ def bounds(axes, row):
     return np.array(lo), np.array(hi)
 
 
-@jit_leaf
+@jit_step
 def plane_hit(obj_f, k, o, d, t_max, a, b, n):
     """Distance along d to the rect, in (0, t_max), else inf.  (d[n] = 0: the
     division gives inf or nan, which the interval test rejects.)"""
@@ -68,32 +68,32 @@ def plane_hit(obj_f, k, o, d, t_max, a, b, n):
     return t
 
 
-@jit_leaf
+@jit_step
 def distance(obj_f, k, o, d, t_max, from_self, from_inside, a, b, n):
     if from_self:
         return like(t_max, INF)
     return plane_hit(obj_f, k, o, d, t_max, a, b, n)
 
 
-@jit_leaf
+@jit_step
 def outward_normal(obj_f, k, p, n):
     s = obj_f[k, SIGN]
     return (s if n == 0 else 0.0, s if n == 1 else 0.0, s if n == 2 else 0.0)
 
 
-@jit_leaf
+@jit_step
 def uv(obj_f, k, p, a, b):
     """The book's texture coordinates: p's fractions of the two extents."""
     return ((p[a] - obj_f[k, A0]) / (obj_f[k, A1] - obj_f[k, A0]),
             (p[b] - obj_f[k, B0]) / (obj_f[k, B1] - obj_f[k, B0]))
 
 
-@jit_leaf
+@jit_step
 def enters(obj_f, k, n, d):
     return False
 
 
-@jit_leaf
+@jit_step
 def sample_toward(obj_f, k, p, state, a, b, n):
     """A unit direction from p to a point uniform in the rect's area."""
     u1, state = rng.uniform(state)
@@ -110,7 +110,7 @@ def sample_toward(obj_f, k, p, state, a, b, n):
     return (z, x, y), state
 
 
-@jit_leaf
+@jit_step
 def pdf_toward(obj_f, k, p, d, from_self, from_inside, a, b, n):
     """distance^2 / (|cos| area) where d meets the rect, else 0."""
     if from_self:

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ...kernel import rng
-from ...kernel.jit import jit_inline, jit_leaf, like
+from ...kernel.jit import jit_step, like
 
 INF = math.inf
 LO = 0
@@ -58,7 +58,7 @@ def bounds(row):
     return corners.min(axis=0), corners.max(axis=0)
 
 
-@jit_leaf
+@jit_step
 def _local_point(obj_f, k, p):
     qx = p[0] - obj_f[k, OFFSET]
     qz = p[2] - obj_f[k, OFFSET + 2]
@@ -66,13 +66,13 @@ def _local_point(obj_f, k, p):
     return (c * qx - s * qz, p[1] - obj_f[k, OFFSET + 1], s * qx + c * qz)
 
 
-@jit_leaf
+@jit_step
 def _local_direction(obj_f, k, d):
     c, s = obj_f[k, COS], obj_f[k, SIN]
     return (c * d[0] - s * d[2], d[1], s * d[0] + c * d[2])
 
 
-@jit_leaf
+@jit_step
 def _slab(lo, hi, o, d):
     """(near, far) distances along d between the planes lo and hi of one axis:
     with d = 0 the division gives +-inf (error_model numpy), so a line between
@@ -84,7 +84,7 @@ def _slab(lo, hi, o, d):
     return min(t0, t1), max(t0, t1)
 
 
-@jit_leaf
+@jit_step
 def slabs(obj_f, k, o, d):
     """(near, far) distances along d where the line o + t d is inside the box
     (near > far: it misses).  In the precision of o and d."""
@@ -96,7 +96,7 @@ def slabs(obj_f, k, o, d):
     return max(n0, n1, n2), min(f0, f1, f2)
 
 
-@jit_leaf
+@jit_step
 def slab_axes(obj_f, k, o, d):
     """slabs, with the axis of the face where the line enters and where it
     leaves (for the light pdf's cosines)."""
@@ -110,7 +110,7 @@ def slab_axes(obj_f, k, o, d):
     return near, far, near_axis, far_axis
 
 
-@jit_inline
+@jit_step
 def distance(obj_f, k, o, d, t_max, from_self, from_inside):
     """Distance to the box along d: where the ray enters it, or leaves it if it
     starts inside; a ray leaving it outward never meets it again."""
@@ -126,7 +126,7 @@ def distance(obj_f, k, o, d, t_max, from_self, from_inside):
     return like(t_max, INF)
 
 
-@jit_leaf
+@jit_step
 def _face_normal(obj_f, k, p):
     """The box frame's unit normal (outward, before flip_face) of the face p is on."""
     lp = _local_point(obj_f, k, p)
@@ -143,7 +143,7 @@ def _face_normal(obj_f, k, p):
             sign if axis == 2 else 0.0)
 
 
-@jit_leaf
+@jit_step
 def uv(obj_f, k, p):
     """Texture coordinates on the face p is on: its fractions of the face's two
     edges, in the box's frame (x then y, or x then z, or y then z)."""
@@ -154,19 +154,19 @@ def uv(obj_f, k, p):
             (lp[b] - obj_f[k, LO + b]) / (obj_f[k, HI + b] - obj_f[k, LO + b]))
 
 
-@jit_leaf
+@jit_step
 def interval(obj_f, k, o, d):
     """(t0, t1): where the line o + t d is inside the box (t0 > t1: never)."""
     return slabs(obj_f, k, o, d)
 
 
-@jit_leaf
+@jit_step
 def _world_direction(obj_f, k, v):
     c, s = obj_f[k, COS], obj_f[k, SIN]
     return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])
 
 
-@jit_leaf
+@jit_step
 def outward_normal(obj_f, k, p):
     n = _world_direction(obj_f, k, _face_normal(obj_f, k, p))
     if obj_f[k, FLIP] != 0.0:
@@ -174,7 +174,7 @@ def outward_normal(obj_f, k, p):
     return n
 
 
-@jit_leaf
+@jit_step
 def enters(obj_f, k, n, d):
     """Does a ray leaving the box along d, where its outward normal is n, go
     inside it?  (flip_face turned n inward)"""
@@ -182,7 +182,7 @@ def enters(obj_f, k, n, d):
     return inward != (obj_f[k, FLIP] != 0.0)
 
 
-@jit_leaf
+@jit_step
 def sample_toward(obj_f, k, p, state):
     """A unit direction from p to a point uniform over the box's surface."""
     u, state = rng.uniform(state)
@@ -212,7 +212,7 @@ def sample_toward(obj_f, k, p, state):
     return (dx * inv, dy * inv, dz * inv), state
 
 
-@jit_leaf
+@jit_step
 def pdf_toward(obj_f, k, p, d, from_self, from_inside):
     """Solid-angle density at p of direction d under sample_toward: the line
     from p along d meets the surface where it enters and where it leaves the

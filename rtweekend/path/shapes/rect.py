@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from ...kernel import rng
-from ...kernel.jit import jit_leaf, like
+from ...kernel.jit import jit_step, like
 from ...kernel.vec3 import dot, madd
 
 INF = math.inf
@@ -70,7 +70,7 @@ def bounds(row):
     return corners.min(axis=0), corners.max(axis=0)
 
 
-@jit_leaf
+@jit_step
 def plane_hit(obj_f, k, o, d, t_max):
     """Distance along d to the rectangle, in (0, t_max), else inf.
 
@@ -95,7 +95,7 @@ def plane_hit(obj_f, k, o, d, t_max):
     return t
 
 
-@jit_leaf
+@jit_step
 def distance(obj_f, k, o, d, t_max, from_self, from_inside):
     """Distance to the rect along d; a ray leaving it never meets it again."""
     if from_self:
@@ -103,12 +103,12 @@ def distance(obj_f, k, o, d, t_max, from_self, from_inside):
     return plane_hit(obj_f, k, o, d, t_max)
 
 
-@jit_leaf
+@jit_step
 def outward_normal(obj_f, k, p):
     return (obj_f[k, N], obj_f[k, N + 1], obj_f[k, N + 2])
 
 
-@jit_leaf
+@jit_step
 def uv(obj_f, k, p):
     """(alpha, beta) of p on the edges: its texture coordinates."""
     q = (p[0] - obj_f[k, Q], p[1] - obj_f[k, Q + 1], p[2] - obj_f[k, Q + 2])
@@ -116,13 +116,13 @@ def uv(obj_f, k, p):
             q[0] * obj_f[k, V_DUAL] + q[1] * obj_f[k, V_DUAL + 1] + q[2] * obj_f[k, V_DUAL + 2])
 
 
-@jit_leaf
+@jit_step
 def enters(obj_f, k, n, d):
     """A rect has no inside: a ray leaving it never goes into it."""
     return False
 
 
-@jit_leaf
+@jit_step
 def sample_toward(obj_f, k, p, state):
     """A unit direction from p to a point uniform in the rect's area."""
     u1, state = rng.uniform(state)
@@ -134,7 +134,7 @@ def sample_toward(obj_f, k, p, state):
     return (dx * inv, dy * inv, dz * inv), state
 
 
-@jit_leaf
+@jit_step
 def pdf_toward(obj_f, k, p, d, from_self, from_inside):
     """Solid-angle density at p of direction d under sample_toward:
     distance^2 / (|cos| area) where d meets the rect, else 0."""

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ...kernel import rng
-from ...kernel.jit import jit, jit_leaf, like
+from ...kernel.jit import jit, jit_step, like
 from ...kernel.vec3 import dot, local, onb, scale
 
 INF = math.inf
@@ -45,7 +45,7 @@ def bounds(row):
     return np.minimum(c0, c1) - r, np.maximum(c0, c1) + r
 
 
-@jit_leaf
+@jit_step
 def center(obj_f, k, time):
     """The centre at `time` (None: the sphere does not move)."""
     if time is None:
@@ -54,7 +54,7 @@ def center(obj_f, k, time):
             obj_f[k, 2] + time * obj_f[k, VELOCITY + 2])
 
 
-@jit_leaf
+@jit_step
 def root(obj_f, k, o, d, t_max, far_only, time):
     """Nearest root in (0, t_max) of |o + t d - c| = |r| for unit d, else inf."""
     c = center(obj_f, k, time)
@@ -75,7 +75,7 @@ def root(obj_f, k, o, d, t_max, far_only, time):
     return like(t_max, INF)
 
 
-@jit_leaf
+@jit_step
 def distance(obj_f, k, o, d, t_max, from_self, from_inside, time):
     """Distance to the sphere along d, for a ray leaving object from_self?."""
     if from_self and not from_inside:
@@ -83,7 +83,7 @@ def distance(obj_f, k, o, d, t_max, from_self, from_inside, time):
     return root(obj_f, k, o, d, t_max, from_self, time)
 
 
-@jit_leaf
+@jit_step
 def interval(obj_f, k, o, d, time):
     """(t0, t1): where the line o + t d is inside the ball (t0 > t1: never)."""
     c = center(obj_f, k, time)
@@ -96,7 +96,7 @@ def interval(obj_f, k, o, d, time):
     return -half_b - sq, -half_b + sq
 
 
-@jit_leaf
+@jit_step
 def outward_normal(obj_f, k, p, time):
     inv_r = 1.0 / obj_f[k, RADIUS]
     c = center(obj_f, k, time)
@@ -105,7 +105,7 @@ def outward_normal(obj_f, k, p, time):
             (p[2] - c[2]) * inv_r)
 
 
-@jit_leaf
+@jit_step
 def uv(obj_f, k, p, time):
     """The book's (u, v) on the sphere: u = angle about y from -x, over 2 pi;
     v = angle from -y, over pi (of the point's direction from the centre)."""
@@ -117,7 +117,7 @@ def uv(obj_f, k, p, time):
     return phi / rng.TWO_PI, theta / math.pi
 
 
-@jit_leaf
+@jit_step
 def enters(obj_f, k, n, d):
     """Does a ray leaving the sphere along d, where its outward normal is n, go
     into its ball?  (n = (p - c) / r: the radius's sign says which way it faces)"""
@@ -131,7 +131,7 @@ def one_minus_cos_theta_max(r2, dist2):
     return x / (1.0 + math.sqrt(1.0 - x))
 
 
-@jit_leaf
+@jit_step
 def sample_toward(obj_f, k, p, state, time):
     """A unit direction from p, uniform in the cone the sphere subtends."""
     c = center(obj_f, k, time)
@@ -151,7 +151,7 @@ def sample_toward(obj_f, k, p, state, time):
     return local(u, v, w, (math.cos(phi) * s, math.sin(phi) * s, z)), state
 
 
-@jit_leaf
+@jit_step
 def pdf_toward(obj_f, k, p, d, from_self, from_inside, time):
     """Solid-angle density at p of direction d under sample_toward; 0 if d misses."""
     if not from_self:

@@ -1,0 +1,15 @@
+"""The estimators, side by side: each a module with its own prange kernel over
+image rows, over the same scene arrays, materials, lights, sampler, camera and
+film.
+
+    render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion)
+
+adds samples s0..s1-1 of the pixels of `rows` to the film.  The Frame names
+the estimator (path/renderer.py) and carries the feature record
+(layout.Features), unpacked into the kernel's arguments in one place,
+renderer.render_samples, because Numba prunes `is None` tests only on
+arguments.
+"""
+from . import path
+
+ESTIMATORS = {"path": path}

@@ -1,0 +1,253 @@
+"""The path tracer: The Rest of Your Life's integrator, and next-event estimation.
+
+One camera sample is a loop over path segments (`trace`), each step a
+function below:
+
+  the nearest hit   one call of bvh.closest_hit, for the path's ray or for a
+                    pending shadow ray (one call site: each inlined copy of the
+                    search costs seconds of compile)
+  in a medium       media.py: the ray may scatter before the surface it found
+  escaping          the background's radiance
+  emission          what the surface emits towards the ray, MIS-weighted
+                    against next-event estimation after a smooth bounce
+  a delta bounce    the material's own direction, weight = its attenuation
+  a smooth bounce   a shadow ray to an emitter (nee.py), then the next
+                    direction from the books' mixture pdf (pdf.py) or the
+                    material's sampling, weight = f |cos| / pdf
+  roulette          dim paths end early, unbiased (next-event estimation only)
+
+light_weight (PathParams) is the mixture's share of the lights list: the books
+use 0.5, 0 is The Next Week's cosine sampling, 1 samples lights only.  max_depth
+counts ray segments, as the books' depth does; shadow rays count as rays in the
+statistics, not as segments of max_depth.
+
+`events` is None for the books' estimators, else the segment from which
+Russian roulette may end a path (0: never); textures, media and motion are The
+Next Week's features, None for a scene without them.  Each is tested with
+`is None` on an argument, which Numba prunes when compiling for None: a kernel
+holds only the code its scene and strategy use.
+"""
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ...kernel import sampler
+from ...kernel.jit import jit, jit_kernel, jit_step
+from ...kernel.vec3 import add, madd, mul, neg, scale
+from .. import film as films
+from .. import materials, media as volumes, nee, pdf, shapes
+from .. import textures as texturing
+from ..bvh import closest_hit
+from ..camera import sample_ray
+from ..film import SEGMENTS
+from ..layout import NO_HIT, OBJ_MAT
+from ..lights import background
+from ..surface import surface_at
+
+INF = math.inf
+ZERO = (0.0, 0.0, 0.0)
+ONE = (1.0, 1.0, 1.0)
+
+
+class Shadow(NamedTuple):
+    """A shadow ray to trace before the path goes on: aimed at emitter `target`
+    (NO_HIT: none) from o along d up to t, adding `light` if nothing else is
+    met before (nee.py)."""
+    target: np.int64
+    o: tuple
+    d: tuple
+    inside: bool
+    t: float
+    light: tuple
+
+
+@jit
+def no_shadow(o, d):
+    return Shadow(np.int64(NO_HIT), o, d, np.bool_(False), INF, ZERO)
+
+
+@jit
+def roulette(beta, smp):
+    """Russian roulette: (survives, throughput, smp); a path goes on with
+    probability q = its largest channel (at most 1), divided by q (unbiased)."""
+    q = min(1.0, max(beta[0], beta[1], beta[2]))
+    u, smp = sampler.uniform(smp)
+    return u < q, (beta[0] / q, beta[1] / q, beta[2] / q), smp
+
+
+@jit_step
+def roulette_after(events, alive, depth, beta, smp):
+    """Roulette from segment `events` on (next-event estimation only)."""
+    if events is not None:
+        if alive and events > 0 and depth >= events:
+            return roulette(beta, smp)
+    return alive, beta, smp
+
+
+@jit_step
+def shadow_light(scene, media, shadow, k, time):
+    """What a traced shadow ray adds: its light if the first thing it met is its
+    emitter (or nothing, by a rounding), times the media's transmittance."""
+    if k != NO_HIT and k != shadow.target:
+        return ZERO
+    if media is not None:
+        tau = volumes.transmittance(scene, media, shadow.o, shadow.d, shadow.t, time)
+        return scale(shadow.light, tau)
+    return shadow.light
+
+
+@jit_step
+def scatter_in_medium(scene, params, textures, medium, p, use_lights, time, smp):
+    """(direction, weight, smp) at p, where the ray scattered inside `medium`
+    (an object whose material is its phase function)."""
+    m = scene.obj_i[medium, OBJ_MAT]
+    albedo = materials.color(scene, m)
+    if textures is not None:
+        albedo = texturing.color_at(scene, textures, m, NO_HIT, p, albedo, time)
+    d, w, smp = volumes.phase_scatter(
+        scene, p, params.light_weight if use_lights else 0.0, use_lights, time, smp)
+    return d, scale(albedo, w), smp
+
+
+@jit_step
+def emission(scene, hit, bsdf, o, d, from_obj, from_inside, continuation, time, events):
+    """(emits, radiance, MIS weight) of what `hit` emits towards the ray from o
+    along d.  After a smooth bounce (continuation > 0) next-event estimation
+    could have found the same light: the power heuristic weighs the two."""
+    emits, e = materials.emitted(bsdf)
+    w = 1.0
+    if events is not None:
+        if emits and continuation > 0.0:
+            w = nee.power_heuristic(continuation, nee.emitter_pdf(
+                scene, hit.obj, o, d, from_obj, from_inside, time))
+    return emits, e, w
+
+
+@jit_step
+def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textures, time, smp):
+    """At a hit on a material that evaluates: a shadow ray (next-event
+    estimation), then the next direction.  Returns (shadow, d, from_inside,
+    weight, continuation, ok, smp): weight = f |cos| / the density d was drawn
+    with (continuation, for MIS; 0 when not needed); ok False: d carries no
+    light (the path ends)."""
+    lw = pdf.mixture_weight(scene, hit.p, params.light_weight)
+    shadow = no_shadow(hit.p, wo)
+    if events is not None:
+        target, sd, s_inside, st, light, state = nee.shadow_ray(
+            scene, hit.p, hit.n_out, hit.obj, bsdf, wo, lw, beta, smp.state, time, textures)
+        shadow = Shadow(target, hit.p, sd, s_inside, st, light)
+        smp = sampler.resume(smp, state)
+    d, weight, smp = pdf.mixture_sample(scene, bsdf, hit.p, lw if use_lights else 0.0,
+                                        use_lights, smp, time)
+    from_inside = shapes.enters(scene, hit.obj, hit.n_out, d)
+    if not (use_lights or events is not None):
+        return shadow, d, from_inside, weight, 0.0, True, smp   # the material's own draw
+    density = nee.continuation_pdf(scene, bsdf, wo, hit.p, lw, d, hit.obj, from_inside, time)
+    att, scattering = materials.eval(bsdf, wo, d, 1.0)
+    # A direction below the surface, or one no component can make, carries no
+    # light: stop instead of dividing by zero.
+    if scattering <= 0.0 or density <= 0.0:
+        return shadow, d, from_inside, weight, 0.0, False, smp
+    return shadow, d, from_inside, scale(att, scattering / density), density, True, smp
+
+
+@jit_step
+def trace(scene, params, o, d, time, smp, events, textures, media):
+    """The radiance along the camera ray (o, d): (radiance, seen, segments, smp),
+    seen being what the camera ray saw emitted (no firefly: film.py)."""
+    use_lights = scene.lights.shape[0] > 0 and params.light_weight > 0.0
+    radiance, seen, beta = ZERO, ZERO, ONE
+    # np.int64 / np.bool_: typed as plain int64 and bool from the start, not as
+    # the literals -1 and False, or Numba compiles the helpers called apart
+    # (nee.py) once more for those literal types.
+    from_obj, from_inside = np.int64(NO_HIT), np.bool_(False)
+    continuation = 0.0      # density d was drawn with at a smooth hit; 0: MIS not needed
+    shadow = no_shadow(o, d)
+    alive, depth, segments = params.max_depth > 0, 0, 0
+    while shadow.target != NO_HIT or alive:
+        shadowing = shadow.target != NO_HIT
+        if shadowing:
+            ro, rd, r_inside, r_max = shadow.o, shadow.d, shadow.inside, shadow.t
+        else:
+            ro, rd, r_inside, r_max = o, d, from_inside, INF
+        k, t = closest_hit(scene, ro, rd, r_max, from_obj, r_inside, time)
+        segments += 1
+        if shadowing:
+            radiance = add(radiance, shadow_light(scene, media, shadow, k, time))
+            shadow = no_shadow(o, d)
+            continue
+        if media is not None:
+            medium, tm, smp = volumes.free_flight(scene, media, o, d, t, time, smp)
+            if medium != NO_HIT:        # scattered inside a medium, at no surface
+                o = madd(o, d, tm)
+                d, weight, smp = scatter_in_medium(scene, params, textures, medium, o,
+                                                   use_lights, time, smp)
+                beta = mul(beta, weight)
+                from_obj, from_inside, continuation = np.int64(NO_HIT), np.bool_(False), 0.0
+                depth += 1
+                alive = depth < params.max_depth and (beta[0] > 0.0 or beta[1] > 0.0 or
+                                                         beta[2] > 0.0)
+                alive, beta, smp = roulette_after(events, alive, depth, beta, smp)
+                continue
+        if k == NO_HIT:
+            radiance = add(radiance, mul(beta, background(scene, d)))
+            break
+        hit = surface_at(scene, textures, k, o, d, t, time)
+        bsdf = materials.at(scene, hit)
+        emits, e, w = emission(scene, hit, bsdf, o, d, from_obj, from_inside, continuation,
+                               time, events)
+        if emits:
+            radiance = add(radiance, scale(mul(beta, e), w))
+            if depth == 0:
+                seen = e
+        if not materials.scatters(bsdf):
+            break
+        wo = neg(d)
+        if materials.delta(bsdf):
+            d, weight, density, _, smp = materials.sample_delta(bsdf, wo, smp)
+            if density == 0.0:
+                break                   # absorbed (fuzzed below the surface)
+            from_inside, continuation, ok = shapes.enters(scene, k, hit.n_out, d), 0.0, True
+        else:
+            shadow, d, from_inside, weight, continuation, ok, smp = smooth_bounce(
+                scene, params, hit, bsdf, wo, beta, use_lights, events, textures, time, smp)
+        o, from_obj = hit.p, k
+        depth += 1
+        alive = ok and depth < params.max_depth
+        if alive:
+            beta = mul(beta, weight)
+        alive, beta, smp = roulette_after(events, alive, depth, beta, smp)
+    return radiance, seen, segments, smp
+
+
+@jit_step
+def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
+    """Trace samples s0..s1-1 of every pixel of row y into the film."""
+    segments = 0
+    width = params.width
+    for x in range(width):
+        pixel = y * width + x
+        for s in range(s0, s1):
+            smp = sampler.start(pixel, s, params.seed, params.pairs)
+            o, d, smp = sample_ray(params.cam, x, y, width, params.height, smp)
+            if motion is not None:
+                time, smp = sampler.uniform(smp)    # on the shutter, for the whole path
+            else:
+                time = None
+            radiance, seen, n, smp = trace(scene, params, o, d, time, smp, events, textures,
+                                           media)
+            segments += n
+            films.add_sample(film, y, x, s, radiance[0], radiance[1], radiance[2],
+                             params.clamp, seen[0], seen[1], seen[2])
+    film.row_stats[y, SEGMENTS] += segments
+
+
+@jit_kernel
+def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion):
+    """Add samples s0..s1-1 of every pixel of `rows` to the film: one thread's
+    share of a pass (kernel/rows.py).  Each row is written by one thread only,
+    and every sum is in sample order, so the film is the same whatever the
+    thread count.  None compiles a kernel without a feature (above)."""
+    for k in range(rows.shape[0]):
+        render_row(rows[k], film, scene, params, s0, s1, events, textures, media, motion)

@@ -1,0 +1,159 @@
+"""Materials: what a surface emits, and how it scatters, evaluated and sampled.
+
+mat_i[m] = kind; mat_f[m] = colour (MAT_COLOR, 0:3), parameter (MAT_PARAM)
+  LAMBERTIAN    colour = albedo                          lambertian.py
+  METAL         colour = albedo, parameter = fuzz        metal.py
+  DIELECTRIC    parameter = index of refraction          dielectric.py
+  DIFFUSE_LIGHT colour = emitted radiance, front face only; it does not scatter
+  ISOTROPIC     a constant medium's phase function       isotropic.py (media.py)
+
+An estimator makes the material's record at a hit once, `bsdf = at(scene,
+hit)` (its kind, colour there, parameter and shading normal: no array is read
+after that), and asks it, never its kind:
+
+  emitted(bsdf)                  -> (emits, radiance)
+  scatters(bsdf), delta(bsdf)    does it scatter; is it sampled only
+  sample(bsdf, wo, smp)          -> (wi, weight, pdf, delta, smp)
+     sample_at(bsdf, u1, u2)     -> (wi, weight, pdf): a smooth one, for a given point
+     sample_delta(bsdf, wo, smp)  the delta ones
+  eval(bsdf, wo, wi, scale)      -> (attenuation, scattering)
+  pdf(bsdf, wo, wi)              -> density of wi (solid angle)
+
+Directions point away from the surface: wo towards where the light goes (the
+camera side, -d for a ray along d), wi the other direction of the pair.  The
+record's normal is the shading normal on wo's side (Surface.n), its colour the
+material's at the hit (Surface.albedo: textured or not).
+
+eval returns f(wo, wi) |cos theta_i| as attenuation x scattering: the books'
+attenuation (an RGB) and their scattering_pdf (a number), the way their
+integrator multiplies them; `scale` (an estimator's weight such as MIS, 1
+otherwise) is multiplied into the number before the material's own constants,
+so that the arithmetic, and the bits, are the books'.  sample's weight is
+f |cos| / pdf; for a smooth material it equals eval's product over pdf.
+
+Delta materials (metal, dielectric) have no density to evaluate: sample
+returns delta = True and pdf = 1, eval and pdf return 0.  An estimator follows
+their direction with its weight and must not connect a path to them or weigh
+them by MIS (they are what the books call skip_pdf).  pdf = 0 from sample means
+the material gave no direction (a fuzzed metal ray below the surface, a light):
+the path ends.
+"""
+from typing import NamedTuple
+
+import numpy as np
+
+from ...kernel import sampler
+from ...kernel.jit import jit_step
+from ..layout import DIELECTRIC, DIFFUSE_LIGHT, LAMBERTIAN, MAT_COLOR, MAT_PARAM, METAL
+from . import dielectric, lambertian, metal
+
+NO_COLOR = (0.0, 0.0, 0.0)
+NO_DIRECTION = (0.0, 0.0, 0.0)
+
+
+class Bsdf(NamedTuple):
+    """A material at one hit: what its functions read."""
+    kind: np.int64         # LAMBERTIAN, METAL, ... (layout.py)
+    albedo: tuple          # its colour there (emitted radiance for a light)
+    param: float           # fuzz, index of refraction
+    n: tuple               # the shading normal, on the incoming ray's side
+    front: bool            # the ray met the front side
+
+
+@jit_step
+def color(scene, m):
+    """Material m's colour (albedo or emitted radiance) where it has no texture;
+    a textured one's is looked up at the hit (textures.py)."""
+    f = scene.mat_f
+    return (f[m, MAT_COLOR], f[m, MAT_COLOR + 1], f[m, MAT_COLOR + 2])
+
+
+@jit_step
+def at(scene, hit):
+    """The Bsdf of the surface record `hit` (surface.py)."""
+    m = hit.mat
+    return Bsdf(scene.mat_i[m], hit.albedo, scene.mat_f[m, MAT_PARAM], hit.n, hit.front)
+
+
+@jit_step
+def emitted(bsdf):
+    """(emits, radiance): a diffuse light emits its colour from its front side."""
+    if bsdf.kind == DIFFUSE_LIGHT and bsdf.front:
+        return True, bsdf.albedo
+    return False, NO_COLOR
+
+
+@jit_step
+def emitted_by(scene, m, front, color):
+    """emitted() of material m with colour `color` at a point seen from its front
+    side or not (a point sampled on a light: no whole record needed)."""
+    return emitted(Bsdf(scene.mat_i[m], color, 0.0, NO_DIRECTION, front))
+
+
+@jit_step
+def scatters(bsdf):
+    """Does light scatter there (a light only emits)?"""
+    return bsdf.kind != DIFFUSE_LIGHT
+
+
+@jit_step
+def delta(bsdf):
+    """Is it sampled only, never evaluated (metal, dielectric)?"""
+    return bsdf.kind == METAL or bsdf.kind == DIELECTRIC
+
+
+@jit_step
+def sample(bsdf, wo, smp):
+    """(wi, weight, pdf, delta, smp): a direction drawn by the material's own
+    sampling; pdf 0: none (the path ends).  What it draws: a smooth material
+    the next 2-D point of the sampler (sample_at), a delta one what
+    sample_delta says."""
+    if delta(bsdf):
+        return sample_delta(bsdf, wo, smp)
+    u1, u2, smp = sampler.next_2d(smp)
+    wi, weight, p = sample_at(bsdf, u1, u2)
+    return wi, weight, p, False, smp
+
+
+@jit_step
+def sample_delta(bsdf, wo, smp):
+    """sample() of a delta material: dielectric draws one number of the stream,
+    metal with fuzz three (pdf 0: the fuzz pushed the ray below the surface,
+    where the books absorb it)."""
+    d = (-wo[0], -wo[1], -wo[2])
+    if bsdf.kind == METAL:
+        wi, ok, state = metal.scatter(d, bsdf.n, bsdf.param, smp.state)
+        return wi, bsdf.albedo, 1.0 if ok else 0.0, True, sampler.resume(smp, state)
+    if bsdf.kind == DIELECTRIC:
+        u, smp = sampler.uniform(smp)
+        return dielectric.scatter_at(d, bsdf.n, bsdf.front, bsdf.param, u), bsdf.albedo, \
+            1.0, True, smp
+    # Not a delta material: no direction.
+    return NO_DIRECTION, NO_COLOR, 0.0, True, smp
+
+
+@jit_step
+def sample_at(bsdf, u1, u2):
+    """(wi, weight, pdf) of a smooth material's sampling for the 2-D point
+    (u1, u2) (the mixture's share of it: pdf.py); delta materials have none."""
+    if bsdf.kind == LAMBERTIAN:
+        return lambertian.sample_at(bsdf.albedo, bsdf.n, u1, u2)
+    return NO_DIRECTION, NO_COLOR, 0.0
+
+
+@jit_step
+def eval(bsdf, wo, wi, scale):
+    """(attenuation, scattering): their product is scale x f(wo, wi) |cos theta_i|
+    (0 for delta materials and lights)."""
+    if bsdf.kind == LAMBERTIAN:
+        return lambertian.eval_scaled(bsdf.albedo, bsdf.n, wi, scale)
+    return NO_COLOR, 0.0
+
+
+@jit_step
+def pdf(bsdf, wo, wi):
+    """Solid-angle density of wi under sample() given wo (0 for delta materials);
+    pdf(bsdf', wi, wo), with the normal on wi's side, is the reverse density."""
+    if bsdf.kind == LAMBERTIAN:
+        return lambertian.pdf(bsdf.n, wi)
+    return 0.0

@@ -1,0 +1,35 @@
+"""The books' dielectric: reflect with Schlick's probability (always under total
+internal reflection), else refract; weight = 1 either way.
+
+A delta material: its directions are chosen, never evaluated (materials.py).
+The choice takes one number of the stream.
+"""
+import math
+
+from ...kernel.jit import jit
+from ...kernel.vec3 import dot, reflect, refract
+
+
+@jit
+def schlick(cosine, ref_idx):
+    """Schlick's approximation of Fresnel reflectance."""
+    r0 = (1.0 - ref_idx) / (1.0 + ref_idx)
+    r0 = r0 * r0
+    x = 1.0 - cosine
+    x2 = x * x
+    return r0 + (1.0 - r0) * (x2 * x2 * x)      # (1 - cos)^5 without a call to pow
+
+
+@jit
+def scatter_at(d, n, front_face, ior, u):
+    """The direction for a unit d meeting the normal n that faces it, and u in [0, 1):
+    reflected when u < the reflectance.
+
+    Total internal reflection is decided before refract() is called, so the
+    square root there never sees a negative argument."""
+    ratio = 1.0 / ior if front_face else ior
+    cos_theta = min(-dot(d, n), 1.0)
+    sin_theta = math.sqrt(max(0.0, 1.0 - cos_theta * cos_theta))
+    if ratio * sin_theta > 1.0 or schlick(cos_theta, ratio) > u:
+        return reflect(d, n)
+    return refract(d, n, ratio)

@@ -1,0 +1,19 @@
+"""The isotropic phase function of a constant medium (The Next Week): every
+direction equally likely, p = f = 1 / (4 pi), weight = albedo."""
+import math
+
+from ...kernel import rng
+from ...kernel.jit import jit
+
+INV_4PI = 1.0 / (4.0 * math.pi)
+
+
+@jit
+def pdf():
+    return INV_4PI
+
+
+@jit
+def sample(state):
+    """(direction, state): uniform over the sphere, two numbers of the stream."""
+    return rng.unit_vector(state)

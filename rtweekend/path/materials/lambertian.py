@@ -1,0 +1,54 @@
+"""The lambertian (ideal diffuse) material: f = albedo / pi on the side the
+light comes from, sampled by the cosine lobe.
+
+Every function takes the shading normal n on the side of wo (Surface.n: the
+books' set_face_normal turns it towards the incoming ray), which is how the
+books make the material two-sided.  The density of the cosine lobe is the
+books' scattering_pdf, cos(theta) / pi, so f |cos| = albedo x scattering_pdf and
+a cosine-sampled direction carries weight = albedo exactly.  Called the other
+way round (wi as the first direction) the same normal serves whenever wi is on
+its side, the only case where f is not 0: eval and pdf are reciprocal.
+"""
+import math
+
+from ...kernel.jit import jit_step
+from ...kernel.vec3 import dot, local, onb
+
+INV_PI = 1.0 / math.pi
+TWO_PI = 2.0 * math.pi
+
+
+@jit_step
+def cosine_at(n, u1, u2):
+    """The direction of the cosine lobe about n for the point (u1, u2) of the
+    unit square (Malley's method: a point of the disk lifted to the hemisphere)."""
+    phi = TWO_PI * u1
+    s = math.sqrt(u2)
+    z = math.sqrt(max(0.0, 1.0 - u2))
+    u, v = onb(n)
+    return local(u, v, n, (math.cos(phi) * s, math.sin(phi) * s, z))
+
+
+@jit_step
+def pdf(n, wi):
+    """scattering_pdf: cos(theta_i) / pi above the surface, else 0."""
+    c = dot(n, wi)
+    return c * INV_PI if c > 0.0 else 0.0
+
+
+@jit_step
+def eval_scaled(albedo, n, wi, scale):
+    """(albedo, scale x scattering_pdf): their product is scale x f |cos theta_i|.
+    `scale` is multiplied in before 1/pi (see materials.eval)."""
+    c = dot(n, wi)
+    if c > 0.0:
+        return albedo, scale * c * INV_PI
+    return albedo, 0.0
+
+
+@jit_step
+def sample_at(albedo, n, u1, u2):
+    """(wi, weight, pdf) of the cosine lobe for the point (u1, u2): weight =
+    f |cos| / pdf = albedo."""
+    wi = cosine_at(n, u1, u2)
+    return wi, albedo, pdf(n, wi)

@@ -1,0 +1,220 @@
+"""Every material, tested the way Mitsuba 3 tests its BSDFs: sample() against
+pdf() by chi-square, sample's weight = f |cos| / pdf = eval / pdf, eval
+reciprocal, and what a delta material must say (eval and pdf 0, a unit
+direction, the books' weight and choice).  The estimators' closed forms and
+furnaces are in test_accuracy.py."""
+import math
+
+import numpy as np
+import pytest
+from numba import njit
+
+from rtweekend.kernel import sampler
+from rtweekend.kernel.vec3 import reflect
+from rtweekend.path import materials
+from rtweekend.path.layout import DIELECTRIC, LAMBERTIAN, METAL
+from rtweekend.path.materials import Bsdf, dielectric, isotropic
+
+from stats import assert_chi2
+
+N_SAMPLES = 200_000
+COS_BINS, PHI_BINS, SUB = 16, 32, 24
+ALBEDO = (0.7, 0.4, 0.2)
+NORMALS = [(0.0, 0.0, 1.0), (1.0, -2.0, 0.5), (0.0, -1.0, 0.0)]
+
+
+def _unit(v):
+    v = np.asarray(v, dtype=np.float64)
+    return tuple(float(c) for c in v / np.linalg.norm(v))
+
+
+def _bsdf(kind, n, param=0.0, front=True):
+    return Bsdf(np.int64(kind), ALBEDO, float(param), _unit(n), front)
+
+
+def _frame(n):
+    """An orthonormal (u, v, n) as rows, for binning directions about n."""
+    n = np.asarray(n)
+    a = np.array([1.0, 0.0, 0.0]) if abs(n[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    u = np.cross(n, a)
+    u /= np.linalg.norm(u)
+    return np.array([u, np.cross(n, u), n])
+
+
+@njit
+def _samples(bsdf, wo, count, seed):
+    """(wi, weight, pdf, delta, eval's product) of `count` draws of sample()."""
+    wis, weights, evals = np.empty((count, 3)), np.empty((count, 3)), np.empty((count, 3))
+    pdfs, deltas = np.empty(count), np.empty(count, dtype=np.bool_)
+    for i in range(count):
+        wi, weight, p, delta, _ = materials.sample(bsdf, wo, sampler.start(i, 0, seed, 0))
+        att, s = materials.eval(bsdf, wo, wi, 1.0)
+        for c in range(3):
+            wis[i, c], weights[i, c], evals[i, c] = wi[c], weight[c], att[c] * s
+        pdfs[i], deltas[i] = p, delta
+    return wis, weights, pdfs, deltas, evals
+
+
+@njit
+def _pdfs(bsdf, wo, dirs):
+    out = np.empty(dirs.shape[0])
+    for i in range(dirs.shape[0]):
+        out[i] = materials.pdf(bsdf, wo, (dirs[i, 0], dirs[i, 1], dirs[i, 2]))
+    return out
+
+
+@njit
+def _isotropic(count, seed):
+    out = np.empty((count, 3))
+    for i in range(count):
+        d, _ = isotropic.sample(sampler.start(i, 0, seed, 0).state)
+        out[i, 0], out[i, 1], out[i, 2] = d
+    return out
+
+
+def _chi2_against(dirs, n, density):
+    """Chi-square of directions binned on an equal-area (cos theta, phi) grid
+    about n, against N x the integral of density(directions) over each bin
+    (one jittered point per sub-cell)."""
+    frame = _frame(n)
+    local = dirs @ frame.T
+    cos_t = np.clip(local[:, 2], -1, 1 - 1e-15)
+    phi = np.mod(np.arctan2(local[:, 1], local[:, 0]), 2 * math.pi)
+    i = ((cos_t + 1) / 2 * COS_BINS).astype(int)
+    j = np.minimum((phi / (2 * math.pi) * PHI_BINS).astype(int), PHI_BINS - 1)
+    observed = np.bincount(i * PHI_BINS + j, minlength=COS_BINS * PHI_BINS)
+    jitter = np.random.default_rng(5).random((2, COS_BINS * SUB, PHI_BINS * SUB))
+    c = (np.arange(COS_BINS * SUB)[:, None] + jitter[0]) / (COS_BINS * SUB) * 2 - 1
+    p = (np.arange(PHI_BINS * SUB)[None, :] + jitter[1]) / (PHI_BINS * SUB) * 2 * math.pi
+    s = np.sqrt(1 - c ** 2)
+    grid = np.stack([s * np.cos(p), s * np.sin(p), c], -1).reshape(-1, 3) @ frame
+    d_omega = 4 * math.pi / (COS_BINS * SUB * PHI_BINS * SUB)
+    per_bin = density(np.ascontiguousarray(grid)).reshape(COS_BINS, SUB, PHI_BINS, SUB)
+    expected = len(dirs) * per_bin.sum(axis=(1, 3)).ravel() * d_omega
+    keep = expected > 20                # pool the bins with few expected samples
+    assert_chi2(np.append(observed[keep], observed[~keep].sum()),
+                np.append(expected[keep], expected[~keep].sum()))
+
+
+@pytest.mark.parametrize("n", NORMALS)
+def test_lambertian_samples_follow_its_pdf(n):
+    bsdf, wo = _bsdf(LAMBERTIAN, n), _unit(np.add(n, (0.3, 0.2, 0.1)))
+    wis, weights, pdfs, deltas, evals = _samples(bsdf, wo, N_SAMPLES, 3)
+    assert not deltas.any() and (pdfs > 0).all()
+    np.testing.assert_allclose(np.linalg.norm(wis, axis=1), 1.0, rtol=1e-12)
+    np.testing.assert_allclose(pdfs, _pdfs(bsdf, wo, wis), rtol=1e-12)
+    _chi2_against(wis, bsdf.n, lambda d: _pdfs(bsdf, wo, d))
+
+
+@pytest.mark.parametrize("n", NORMALS)
+def test_lambertian_pdf_integrates_to_one_and_is_zero_below(n):
+    bsdf, wo = _bsdf(LAMBERTIAN, n), _unit(n)
+    dirs = _isotropic(400_000, 7)
+    v = _pdfs(bsdf, wo, dirs) * 4 * math.pi
+    assert abs(v.mean() - 1.0) < 5 * v.std() / math.sqrt(len(v))
+    assert (v[dirs @ np.asarray(bsdf.n) <= 0] == 0).all()
+
+
+@pytest.mark.parametrize("n", NORMALS)
+def test_lambertian_weight_is_eval_over_pdf_and_eval_is_albedo_cos_over_pi(n):
+    bsdf, wo = _bsdf(LAMBERTIAN, n), _unit(n)
+    wis, weights, pdfs, _, evals = _samples(bsdf, wo, 5000, 5)
+    np.testing.assert_allclose(weights, evals / pdfs[:, None], rtol=1e-12)
+    np.testing.assert_allclose(weights, np.broadcast_to(ALBEDO, weights.shape), rtol=1e-12)
+    cos = wis @ np.asarray(bsdf.n)
+    np.testing.assert_allclose(evals, np.outer(cos / math.pi, ALBEDO), rtol=1e-12)
+
+
+@njit
+def _eval_pairs(bsdf, a, b, scale):
+    out = np.empty((a.shape[0], 2))
+    for i in range(a.shape[0]):
+        x, y = (a[i, 0], a[i, 1], a[i, 2]), (b[i, 0], b[i, 1], b[i, 2])
+        att, s = materials.eval(bsdf, x, y, scale)
+        out[i, 0] = att[0] * s
+        att, s = materials.eval(bsdf, y, x, scale)
+        out[i, 1] = att[0] * s
+    return out
+
+
+@pytest.mark.parametrize("n", NORMALS)
+def test_lambertian_is_reciprocal_and_scales_like_the_books(n):
+    """f(wo, wi) = f(wi, wo) with f = eval / |cos theta_i|; eval(..., scale) is
+    scale x eval(..., 1) to the last bit (MIS weights are folded in that way)."""
+    bsdf = _bsdf(LAMBERTIAN, n)
+    rng_ = np.random.default_rng(9)
+    a, b = _isotropic(2000, 1), _isotropic(2000, 2)
+    nn = np.asarray(bsdf.n)
+    a *= np.sign(a @ nn)[:, None]          # both above the surface
+    b *= np.sign(b @ nn)[:, None]
+    e = _eval_pairs(bsdf, a, b, 1.0)
+    f_ab, f_ba = e[:, 0] / (b @ nn), e[:, 1] / (a @ nn)
+    np.testing.assert_allclose(f_ab, f_ba, rtol=1e-12)
+    np.testing.assert_allclose(f_ab, ALBEDO[0] / math.pi, rtol=1e-12)
+    # the kernel's own order of operations: dot left to right, then scale x c / pi
+    cosines = [nn[0] * x + nn[1] * y + nn[2] * z for x, y, z in b]
+    for scale in rng_.uniform(0.01, 3.0, 5):
+        scaled = _eval_pairs(bsdf, a, b, scale)
+        assert np.array_equal(scaled[:, 0], np.array(
+            [ALBEDO[0] * (scale * c * (1 / math.pi)) for c in cosines]))
+
+
+@pytest.mark.parametrize("kind, param", [(METAL, 0.0), (METAL, 0.4), (DIELECTRIC, 1.5)])
+def test_delta_materials_are_sampled_only(kind, param):
+    bsdf = _bsdf(kind, (0.0, 0.0, 1.0), param)
+    wo = _unit((0.3, -0.2, 0.9))
+    wis, weights, pdfs, deltas, evals = _samples(bsdf, wo, 4000, 8)
+    assert deltas.all()
+    assert (evals == 0).all() and (_pdfs(bsdf, wo, wis) == 0).all()
+    kept = pdfs > 0
+    np.testing.assert_allclose(np.linalg.norm(wis[kept], axis=1), 1.0, rtol=1e-12)
+    np.testing.assert_allclose(weights[kept], np.broadcast_to(ALBEDO, weights[kept].shape))
+    assert materials.delta(bsdf) and materials.scatters(bsdf)
+
+
+def test_metal_reflects_within_its_fuzz_and_absorbs_below_the_surface():
+    n = (0.0, 0.0, 1.0)
+    wo = _unit((0.6, 0.0, 0.2))                 # a grazing ray: fuzz pushes some below
+    d = tuple(-c for c in wo)
+    mirror = np.array(reflect(d, n))
+    sharp = _samples(_bsdf(METAL, n, 0.0), wo, 100, 1)
+    np.testing.assert_allclose(sharp[0], np.broadcast_to(mirror, (100, 3)), rtol=1e-12)
+    wis, _, pdfs, _, _ = _samples(_bsdf(METAL, n, 0.5), wo, 20_000, 2)
+    angle = np.arccos(np.clip(wis @ mirror / np.linalg.norm(mirror), -1, 1))
+    assert angle.max() <= math.asin(0.5) + 1e-9        # within the fuzz ball's cone
+    below = wis[:, 2] <= 0
+    assert below.any() and (pdfs[below] == 0).all() and (pdfs[~below] == 1).all()
+
+
+@pytest.mark.parametrize("front", [True, False])
+@pytest.mark.parametrize("cos_in", [0.95, 0.5, 0.15])
+def test_dielectric_reflects_with_schlicks_probability(front, cos_in):
+    ior = 1.5
+    n = (0.0, 0.0, 1.0)
+    wo = (math.sqrt(1 - cos_in ** 2), 0.0, cos_in)
+    wis, _, _, _, _ = _samples(_bsdf(DIELECTRIC, n, ior, front), wo, 40_000, 4)
+    reflected = wis[:, 2] > 0
+    ratio = 1 / ior if front else ior
+    sin_out = ratio * math.sqrt(1 - cos_in ** 2)
+    p = 1.0 if sin_out > 1 else dielectric.schlick(cos_in, ratio)
+    sigma = math.sqrt(max(p * (1 - p), 1e-12) / len(wis))
+    assert abs(reflected.mean() - p) <= 5 * sigma + 1e-12
+    if p < 1:                                           # Snell's law on the refracted ones
+        t = wis[~reflected]
+        np.testing.assert_allclose(np.hypot(t[:, 0], t[:, 1]), sin_out, rtol=1e-9)
+
+
+def test_isotropic_phase_is_uniform_over_the_sphere():
+    dirs = _isotropic(N_SAMPLES, 12)
+    _chi2_against(dirs, (0.0, 0.0, 1.0), lambda d: np.full(len(d), isotropic.pdf()))
+    assert isotropic.pdf() == 1 / (4 * math.pi)
+
+
+def test_a_light_emits_from_its_front_and_does_not_scatter():
+    from rtweekend.path.layout import DIFFUSE_LIGHT
+    front, back = _bsdf(DIFFUSE_LIGHT, (0, 0, 1)), _bsdf(DIFFUSE_LIGHT, (0, 0, 1), front=False)
+    assert materials.emitted(front) == (True, ALBEDO)
+    assert materials.emitted(back) == (False, (0.0, 0.0, 0.0))
+    assert not materials.scatters(front) and not materials.delta(front)
+    wis, weights, pdfs, _, _ = _samples(front, (0.0, 0.0, 1.0), 10, 1)
+    assert (pdfs == 0).all()
