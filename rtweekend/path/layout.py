@@ -49,6 +49,15 @@ NO_HIT = -1
 
 # -- columns -----------------------------------------------------------------------
 
+# light_rows (lights.py): the object and its part (a box's face; -1: the whole)
+LIGHT_OBJ = 0
+LIGHT_PART = 1
+# light_f (lights.py)
+LIGHT_AREA = 0
+LIGHT_POWER = 1
+LIGHT_PROB = 2
+LIGHT_CDF = 3
+
 # obj_i
 OBJ_KIND = 0
 OBJ_MAT = 1
@@ -70,6 +79,9 @@ class SceneArrays(NamedTuple):
     lights: np.ndarray     # int64 [L]: object indices the light pdf samples
     dark_sides: np.ndarray  # float64 [D, 4]: where the lights give nothing (pack.py)
     emitters: np.ndarray   # int64 [E]: objects whose material emits (next-event targets)
+    light_rows: np.ndarray  # int64 [L, 2]: one per emissive primitive (lights.py)
+    light_f: np.ndarray    # float64 [L, 4]: its area, power, probability, cumulative
+    light_pick: np.ndarray  # float64 [N]: how often next events pick each object
     bg_kind: int           # BG_COLOR or BG_SKY
     bg: np.ndarray         # float64 [3]: the background's radiance (BG_COLOR)
     bvh_box: np.ndarray    # the hierarchy (bvh.py); empty for small scenes

@@ -12,6 +12,7 @@ from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS
                      MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_MAT, PRIMITIVE_KINDS, RECT,
                      SPHERE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays)
 from .shapes import axis_rect, box, rect, sphere
+from .lights import pack_lights
 from .textures import pack_textures
 
 
@@ -114,8 +115,9 @@ def pack_scene(scene, bvh=None):
     else:
         tree = hierarchy.empty_bvh(len(obj_i), ids)
     emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
-    return SceneArrays(obj_i, obj_f, mat_i, mat_f.reshape(-1, MAT_FLOATS), lights,
-                       np.zeros((0, 4)), emitters, bg_kind, bg, *tree)
+    mat_f = mat_f.reshape(-1, MAT_FLOATS)
+    return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
+                       *pack_lights(obj_i, obj_f, mat_i, mat_f), bg_kind, bg, *tree)
 
 
 def dark_sides(arrays):

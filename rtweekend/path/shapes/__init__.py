@@ -9,6 +9,8 @@ for the row k of obj_f it packed:
                                        normal there: n) go inside it?
   sample_toward(obj_f, k, p, state)    a direction from p towards it (as a light)
   pdf_toward(obj_f, k, p, d, from_self, from_inside)   that direction's density
+  sample_area(obj_f, k, [part,] u1, u2)  a point uniform over its surface (a box's
+                                       faces one at a time), its normal, 1 / area
   uv(obj_f, k, p)                      texture coordinates of a point on it
   interval(obj_f, k, o, d)             where a line is inside it (closed kinds:
                                        a constant medium's boundary)
@@ -146,6 +148,28 @@ def pdf_toward(scene, k, p, d, from_obj, from_inside, time):
     if kind == RECT:
         return rect.pdf_toward(f, k, p, d, from_self, from_inside)
     return NAN
+
+
+@jit_step
+def sample_area(scene, k, part, u1, u2, time):
+    """(point, outward normal, area density) of a point uniform over object k
+    (a box: over its face `part`; the others have one part) for the unit
+    square's point (u1, u2)."""
+    kind = scene.obj_i[k, OBJ_KIND]
+    f = scene.obj_f
+    if kind == XZ_RECT:
+        return axis_rect.sample_area(f, k, u1, u2, *XZ)
+    if kind == YZ_RECT:
+        return axis_rect.sample_area(f, k, u1, u2, *YZ)
+    if kind == XY_RECT:
+        return axis_rect.sample_area(f, k, u1, u2, *XY)
+    if kind == SPHERE:
+        return sphere.sample_area(f, k, u1, u2, time)
+    if kind == BOX:
+        return box.sample_area(f, k, part, u1, u2)
+    if kind == RECT:
+        return rect.sample_area(f, k, u1, u2)
+    return (NAN, NAN, NAN), (NAN, NAN, NAN), NAN
 
 
 @jit_step

@@ -213,6 +213,35 @@ def sample_toward(obj_f, k, p, state):
 
 
 @jit_step
+def _face_coordinate(obj_f, k, a, axis, high, u1, u2):
+    """Coordinate a, in the box's frame, of the point (u1, u2) of the face normal
+    to `axis` on its high side or its low one."""
+    lo, hi = obj_f[k, LO + a], obj_f[k, HI + a]
+    if a == axis:
+        return hi if high else lo
+    u = u1 if a == (axis + 1) % 3 else u2
+    return lo + u * (hi - lo)
+
+
+@jit_step
+def sample_area(obj_f, k, face, u1, u2):
+    """(point, outward normal, 1 / the face's area): a point uniform over face
+    number `face` (2 x its normal's axis, + 1 for the high side), for the light
+    layer's one row per face."""
+    axis, high = face // 2, face % 2 == 1
+    w = _world_direction(obj_f, k, (_face_coordinate(obj_f, k, 0, axis, high, u1, u2),
+                                    _face_coordinate(obj_f, k, 1, axis, high, u1, u2),
+                                    _face_coordinate(obj_f, k, 2, axis, high, u1, u2)))
+    p = (w[0] + obj_f[k, OFFSET], w[1] + obj_f[k, OFFSET + 1], w[2] + obj_f[k, OFFSET + 2])
+    sign = 1.0 if high else -1.0
+    if obj_f[k, FLIP] != 0.0:
+        sign = -sign
+    n = _world_direction(obj_f, k, (sign if axis == 0 else 0.0, sign if axis == 1 else 0.0,
+                                    sign if axis == 2 else 0.0))
+    return p, n, 1.0 / obj_f[k, FACE_AREA + axis]
+
+
+@jit_step
 def pdf_toward(obj_f, k, p, d, from_self, from_inside):
     """Solid-angle density at p of direction d under sample_toward: the line
     from p along d meets the surface where it enters and where it leaves the

@@ -152,6 +152,22 @@ def sample_toward(obj_f, k, p, state, time):
 
 
 @jit_step
+def sample_area(obj_f, k, u1, u2, time):
+    """(point, outward normal, 1 / area): a point uniform over the sphere's
+    surface, for the unit square's point (u1, u2)."""
+    z = 1.0 - 2.0 * u1
+    s = math.sqrt(max(0.0, 1.0 - z * z))
+    phi = rng.TWO_PI * u2
+    w = (s * math.cos(phi), s * math.sin(phi), z)
+    c = center(obj_f, k, time)
+    r = obj_f[k, RADIUS]
+    # p = c + |r| w; the outward normal (p - c) / r turns inward for r < 0.
+    p = (c[0] + abs(r) * w[0], c[1] + abs(r) * w[1], c[2] + abs(r) * w[2])
+    n = w if r > 0.0 else (-w[0], -w[1], -w[2])
+    return p, n, 1.0 / (2.0 * rng.TWO_PI * obj_f[k, RADIUS2])
+
+
+@jit_step
 def pdf_toward(obj_f, k, p, d, from_self, from_inside, time):
     """Solid-angle density at p of direction d under sample_toward; 0 if d misses."""
     if not from_self:
