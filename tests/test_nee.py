@@ -133,3 +133,41 @@ def test_sobol_points_change_the_image_not_its_expectation():
     se = np.sqrt((books.stderr.astype(float) ** 2).sum()
                  + (qmc.stderr.astype(float) ** 2).sum()) / books.image.size
     assert abs(diff) < 4 * se
+
+
+def _bright_and_dim_scene():
+    """A floor under a large bright ceiling light and a tiny dim sphere light."""
+    scene = rt.Scene(camera=rt.Camera(lookfrom=(0, 4, -6), lookat=(0, 0, 0), vfov=40,
+                                      width=12, height=12), max_depth=2)
+    scene.add(rt.xz_rect(-3, 3, -3, 3, 0, rt.lambertian((0.6, 0.6, 0.6))))
+    scene.add(rt.xz_rect(-1, 1, -1, 1, 3, rt.diffuse_light((8, 8, 8))).flip_face(),
+              light=True)
+    scene.add(rt.sphere((2, 1, 1), 0.05, rt.diffuse_light((0.5, 0.5, 0.5))), light=True)
+    return scene
+
+
+def test_next_events_pick_emitters_by_power_with_less_variance_and_the_same_mean():
+    from rtweekend.path.layout import LIGHT_CDF, LIGHT_PROB
+    scene = _bright_and_dim_scene()
+    by_power = rt.Renderer(scene, seed=5, sampling="nee")
+    a = by_power.frame.scene
+    prob = a.light_f[:, LIGHT_PROB]
+    assert prob[0] > 0.999 and a.light_pick[a.light_rows[0, 0]] == prob[0]
+    # The same render with the emitters picked uniformly (as next events did
+    # before): the arrays say how often each is picked, the kernel follows them.
+    uniform = rt.Renderer(scene, seed=5, sampling="nee")
+    f = uniform.frame
+    light_f = a.light_f.copy()
+    light_f[:, LIGHT_PROB], light_f[:, LIGHT_CDF] = 0.5, [0.5, 1.0]
+    pick = np.where(a.light_pick > 0, 0.5, 0.0)
+    uniform.frame = f._replace(scene=f.scene._replace(light_f=light_f, light_pick=pick))
+    for r in (by_power, uniform):
+        r.add_samples(256)
+    p, u = by_power.result(), uniform.result()
+    var_p, var_u = (np.mean(x.stderr.astype(float) ** 2) for x in (p, u))
+    assert var_p < 0.7 * var_u
+    se = np.sqrt(p.stderr.astype(float) ** 2 + u.stderr ** 2)
+    seen = se > 0                    # the rest sees the black sky: 0 in both
+    assert seen.mean() > 0.5 and (p.image[~seen] == u.image[~seen]).all()
+    z = (p.image.astype(float) - u.image)[seen] / se[seen]
+    assert abs(z.mean()) < 4 / math.sqrt(z.size) and z.std() < 1.3

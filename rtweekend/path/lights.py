@@ -13,8 +13,9 @@ power in `light_f`:
   CDF    the cumulative PROB, for the binary search of `pick`
 
 and `light_pick[k]` is how often an object is picked, the sum of its rows'.
-Next-event estimation picks an emitter this way and aims at it with the
-shape's own light sampling (shapes/<kind>.py: sample_toward); `sample_point`
+Next-event estimation picks an emitter this way (nee.py) and aims at it with
+the shape's own light sampling (shapes/<kind>.py: sample_toward): bright
+emitters get the shadow rays, tiny dim ones few; `sample_point`
 gives a point on the surface by area, for estimators that start paths on
 lights, and area_to_solid_angle turns its density into a direction's.
 
@@ -59,6 +60,7 @@ def pack_lights(obj_i, obj_f, mat_i, mat_f):
             values.append((area, math.pi * luminance * area))
     rows = np.array(rows, dtype=np.int64).reshape(-1, 2)
     light_f = np.zeros((len(rows), 4))
+    light_pick = np.zeros(len(obj_i))
     if len(rows):
         light_f[:, LIGHT_AREA], light_f[:, LIGHT_POWER] = np.array(values).T
         weight = light_f[:, LIGHT_POWER] if light_f[:, LIGHT_POWER].sum() > 0 \
@@ -66,8 +68,10 @@ def pack_lights(obj_i, obj_f, mat_i, mat_f):
         light_f[:, LIGHT_PROB] = weight / weight.sum()
         light_f[:, LIGHT_CDF] = np.cumsum(light_f[:, LIGHT_PROB])
         light_f[-1, LIGHT_CDF] = 1.0             # no u in [0, 1) falls past the last row
-    light_pick = np.zeros(len(obj_i))
-    np.add.at(light_pick, rows[:, LIGHT_OBJ], light_f[:, LIGHT_PROB])
+        # An object's share from its own weights (not a sum of rounded shares):
+        # exactly 1 for a scene's only emitter, box lights included.
+        np.add.at(light_pick, rows[:, LIGHT_OBJ], weight)
+        light_pick /= weight.sum()
     return rows, light_f, light_pick
 
 

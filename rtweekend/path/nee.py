@@ -2,9 +2,9 @@
 
 At a diffuse hit p the integrator has two ways to find the light of an emitter:
 
-  next event   pick one emitter uniformly, a direction towards it by its own
-               sampling (shapes/<kind>.py: sample_toward), and trace a shadow
-               ray; its density is p_e(w) = pdf_toward(emitter, w) / E
+  next event   pick one emitter by power (lights.py), a direction towards it by
+               its own sampling (shapes/<kind>.py: sample_toward), and trace a
+               shadow ray; its density is p_e(w) = P(emitter) pdf_toward(emitter, w)
   continuation the path's next direction from the mixture pdf (pdf.py), p_c(w),
                and whatever emitter that ray happens to hit
 
@@ -28,7 +28,7 @@ direction (materials.pdf: 0 below a lambertian) and f |cos| (materials.eval).
 from ..kernel import rng
 from ..kernel.jit import jit, jit_step
 from ..kernel.vec3 import dot, madd
-from . import materials, pdf, shapes
+from . import lights, materials, pdf, shapes
 from . import textures as texturing
 from .bvh import INF
 from .layout import NO_HIT, OBJ_MAT
@@ -46,9 +46,10 @@ def power_heuristic(pdf_a, pdf_b):
 @jit_step
 def emitter_pdf(scene, k, p, d, from_obj, from_inside, time):
     """Solid-angle density at p of direction d under next-event sampling, for
-    the emitter k that d reaches (0 where d misses it)."""
-    return shapes.pdf_toward(scene, k, p, d, from_obj, from_inside, time) / \
-        scene.emitters.shape[0]
+    the emitter k that d reaches (0 where d misses it): how often k is picked,
+    times the density of its own sampling."""
+    return shapes.pdf_toward(scene, k, p, d, from_obj, from_inside, time) * \
+        scene.light_pick[k]
 
 
 @jit_step
@@ -76,9 +77,8 @@ def shadow_ray(scene, p, n_out, k, bsdf, wo, light_weight, beta, state, time, te
     because this function is called, not inlined): one for the emitter, then
     the emitter's own.
     """
-    emitters = scene.emitters
     u, state = rng.uniform(state)
-    e = emitters[min(int(u * emitters.shape[0]), emitters.shape[0] - 1)]
+    e = lights.pick_emitter(scene, u)
     w, state = shapes.sample_toward(scene, e, p, state, time)
     inside = shapes.enters(scene, k, n_out, w)
     gives = materials.pdf(bsdf, wo, w) > 0.0
