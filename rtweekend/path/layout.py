@@ -91,7 +91,7 @@ class SceneArrays(NamedTuple):
 
 class PathParams(NamedTuple):
     """The render's parameters, as the kernel reads them."""
-    cam: np.ndarray        # float64 [CAM_FLOATS] (camera.py)
+    cam: np.ndarray        # float64 [camera.CAM_FLOATS]
     width: int
     height: int
     seed: int
