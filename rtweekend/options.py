@@ -36,12 +36,16 @@ class Sampling:
     lights seen from their back: no light reaches it from them), the mixture
     draws from the cosine alone instead of sending samples to them (the books
     do); pack.dark_sides.  Only with sobol (the kernel tests it there).
+    estimator: which kernel renders (path/integrators/): the path tracer, or
+    light tracing (paths from the emitters connected to the camera; the other
+    fields do not apply to it).
     """
     light_weight: float
     next_event: bool = False
     roulette_depth: int = 0      # 0: no Russian roulette
     sobol: bool = False
     facing: bool = False
+    estimator: str = "path"      # path/integrators/: "path", or "light" (light tracing)
 
 
 SAMPLINGS = {
@@ -52,6 +56,8 @@ SAMPLINGS = {
     # Ours beyond the books: Sobol points; no light samples where no light shines.
     "mixture+sobol": Sampling(0.5, sobol=True, facing=True),
     "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True, facing=True),
+    # Light tracing (pbrt's lightpath): caustics on smooth surfaces, no glass seen.
+    "lightpath": Sampling(0.0, estimator="light"),
 }
 # The default: the strategy with the lowest error at equal time on the bundled
 # scenes (benchmarks/accuracy.py; README, Accuracy).  "mixture" is the books'.

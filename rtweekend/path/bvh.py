@@ -185,3 +185,12 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
         i = after
     return best, t_max
 
+
+
+@jit_step
+def unoccluded(scene, o, d, t_max, from_obj, from_inside, time):
+    """Is the segment o + t d, 0 < t < t_max, clear of every object?  (The
+    visibility of a connection between two points; what a ray leaving object
+    from_obj may meet, as for closest_hit.)"""
+    k, _ = closest_hit(scene, o, d, t_max, from_obj, from_inside, time)
+    return k == NO_HIT

@@ -25,7 +25,7 @@ from . import film as films
 from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
 from .integrators import ESTIMATORS
-from .layout import Features, PathParams, SceneArrays
+from .layout import BG_COLOR, Features, PathParams, SceneArrays
 from .pack import dark_sides, pack_features, pack_scene
 
 
@@ -74,17 +74,49 @@ def freeze(scene, options):
                         clamp=options.clamp_value, pairs=SOBOL_PAIRS if strategy.sobol else 0)
     features = Features(strategy.roulette_depth if next_event else None,
                         *pack_features(scene, arrays))
-    return Frame(arrays, params, interleaved_rows(camera.height), features)
+    if strategy.estimator == "light":
+        _check_light_tracing(options, arrays)
+    return Frame(arrays, params, interleaved_rows(camera.height), features, strategy.estimator)
+
+
+def _check_light_tracing(options, arrays):
+    """Light tracing starts every path on an emitter: a scene must have one, and
+    no light may come from the background, which such paths never leave from."""
+    name = options.sampling
+    if len(arrays.light_rows) == 0:
+        raise SceneError(f"render: sampling: {name} starts its paths on the scene's "
+                         "emitters (diffuse_light), and this scene has none")
+    if arrays.bg_kind != BG_COLOR or arrays.bg.any():
+        raise SceneError(f"render: sampling: {name} starts its paths on emitters, so it "
+                         "cannot render the light of this scene's background; use "
+                         "another sampling, or a black background")
 
 
 def render_samples(frame, film, s0, s1, rows=None):
     """Add samples s0 .. s1 - 1 of every pixel (of `rows` only: a slice of
     frame.rows) to `film`.  A pixel's sums depend on its sample indices only,
-    so rows rendered in several parts give the bits of one whole pass."""
+    so rows rendered in several parts give the bits of one whole pass.  With
+    every row, a film with splats is folded at each block's end (film.py)."""
     render_pass = kernel(frame).render_pass
-    on_threads(lambda part: render_pass(film, frame.scene, frame.params, part, s0, s1,
-                                        *frame.features),
-               frame.rows if rows is None else rows, numba.get_num_threads() if s1 > s0 else 1)
+    part_of_the_rows = rows is not None
+    rows = frame.rows if rows is None else rows
+    threads = numba.get_num_threads() if s1 > s0 else 1
+    for a, b in _block_parts(s0, s1) if film.splat.size else [(s0, s1)]:
+        on_threads(lambda part: render_pass(film, frame.scene, frame.params, part, a, b,
+                                            *frame.features), rows, threads)
+        if film.splat.size and not part_of_the_rows and b > a and b % BLOCK_SPP == 0:
+            films.fold_splats(film)
+
+
+def _block_parts(s0, s1):
+    """[s0, s1) cut at the ends of blocks of BLOCK_SPP samples (at least one part)."""
+    parts, a = [], s0
+    while True:
+        b = min(s1, (a // BLOCK_SPP + 1) * BLOCK_SPP)
+        parts.append((a, b))
+        if b >= s1:
+            return parts
+        a = b
 
 
 def kernel(frame):
@@ -92,11 +124,16 @@ def kernel(frame):
     return ESTIMATORS[frame.estimator]
 
 
+def splats(frame):
+    """Does the estimator of `frame` splat (its film needs the splat arrays)?"""
+    return kernel(frame).SPLATS
+
+
 def block_film(frame, s0, s1):
     """A fresh film of samples s0 .. s1 - 1, s0 on a block boundary (for workers)."""
     if s0 % BLOCK_SPP:
         raise ValueError(f"block_film: s0 = {s0} is not a multiple of {BLOCK_SPP}")
-    film = films.new_film(frame.height, frame.width)
+    film = films.new_film(frame.height, frame.width, splats(frame))
     render_samples(frame, film, s0, s1)
     return film
 
@@ -117,8 +154,9 @@ class Renderer:
         self.frame = freeze(scene, options)
         self.width, self.height = self.frame.width, self.frame.height
         # Before the film is allocated: beyond the memory, one line, nothing done.
-        memory.check(films.render_bytes(self.height, self.width), self.width, self.height)
-        self.film = films.new_film(self.height, self.width)
+        memory.check(films.render_bytes(self.height, self.width, splats(self.frame)),
+                     self.width, self.height)
+        self.film = films.new_film(self.height, self.width, splats(self.frame))
         self.spp = 0               # samples per pixel so far, in every pixel
         self.band = 0              # a pass over part of the rows in progress: its spp
         self.rows_done = 0         # ... and how many of frame.rows have them
@@ -161,6 +199,10 @@ class Renderer:
             count = checks.integer(count, "count", lo=1, hi=self.height - self.rows_done)
         except FieldError as e:
             raise SceneError(f"add_rows: {e}") from None
+        if self.film.splat.size and self.spp // BLOCK_SPP != (self.spp + n - 1) // BLOCK_SPP:
+            raise SceneError(f"add_rows: n: light carried to the camera is added up in blocks "
+                             f"of {BLOCK_SPP} samples, and samples {self.spp} to "
+                             f"{self.spp + n - 1} cross one; add fewer")
         rows = self.frame.rows[self.rows_done:self.rows_done + count]
         with thread_count(self.options.threads) as self.threads:
             t0 = _time.perf_counter()
@@ -169,6 +211,8 @@ class Renderer:
         self.band, self.rows_done = n, self.rows_done + count
         if self.rows_done == self.height:
             self.spp, self.band, self.rows_done = self.spp + n, 0, 0
+            if self.film.splat.size and self.spp % BLOCK_SPP == 0:
+                films.fold_splats(self.film)
         self.seconds += dt
         return dt
 
@@ -185,7 +229,7 @@ class Renderer:
         self.spp = spp
 
     def result(self, *, spp_requested=None, interrupted=False, threads=None, stopped_by=None):
-        image, stderr = films.mean_and_stderr(self.film)
+        image, stderr = films.mean_and_stderr(self.film, self.spp)
         fireflies, firefly_energy = films.firefly_stats(self.film, float(image.mean()))
         row_stats = self.film.row_stats
         clamp = self.frame.params.clamp

@@ -4,12 +4,15 @@ film.
 
     render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion)
 
-adds samples s0..s1-1 of the pixels of `rows` to the film.  The Frame names
+adds samples s0..s1-1 of the pixels of `rows` to the film, and SPLATS says
+whether its film needs the splat arrays (film.py): path.py adds each sample
+to its own pixel; light.py carries light from the emitters to whatever pixel
+it reaches.  The Frame names
 the estimator (path/renderer.py) and carries the feature record
 (layout.Features), unpacked into the kernel's arguments in one place,
 renderer.render_samples, because Numba prunes `is None` tests only on
 arguments.
 """
-from . import path
+from . import light, path
 
-ESTIMATORS = {"path": path}
+ESTIMATORS = {"path": path, "light": light}

@@ -42,10 +42,12 @@ from ..bvh import closest_hit
 from ..camera import sample_ray
 from ..film import SEGMENTS
 from ..layout import NO_HIT, OBJ_MAT
+from ..roulette import roulette
 from ..lights import background
 from ..surface import surface_at
 
 INF = math.inf
+SPLATS = False          # its film has no splat arrays (film.py): samples only
 ZERO = (0.0, 0.0, 0.0)
 ONE = (1.0, 1.0, 1.0)
 
@@ -67,21 +69,12 @@ def no_shadow(o, d):
     return Shadow(np.int64(NO_HIT), o, d, np.bool_(False), INF, ZERO)
 
 
-@jit
-def roulette(beta, smp):
-    """Russian roulette: (survives, throughput, smp); a path goes on with
-    probability q = its largest channel (at most 1), divided by q (unbiased)."""
-    q = min(1.0, max(beta[0], beta[1], beta[2]))
-    u, smp = sampler.uniform(smp)
-    return u < q, (beta[0] / q, beta[1] / q, beta[2] / q), smp
-
-
 @jit_step
 def roulette_after(events, alive, depth, beta, smp):
     """Roulette from segment `events` on (next-event estimation only)."""
     if events is not None:
         if alive and events > 0 and depth >= events:
-            return roulette(beta, smp)
+            return roulette(beta, 1.0, smp)
     return alive, beta, smp
 
 

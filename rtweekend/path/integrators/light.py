@@ -1,0 +1,206 @@
+"""Light tracing: paths start on the lights and connect to the camera (Veach's
+particle tracing; pbrt-v4's LightPathIntegrator, Mitsuba 3's ptracer).
+
+Each sample key (pixel, s) draws one light path, not tied to its pixel: a
+light row picked by power and a point on it by area (lights.py), a direction
+from the cosine lobe about its front, then bounces as a camera path does --
+delta materials followed with their weight, smooth ones sampled by the
+material, constant media scattering by their phase function, Russian roulette.
+At its start and at every smooth or medium vertex the path is connected to a
+point of the lens (camera.sample_lens): if nothing is in between, the light it
+brings is splatted into the pixel it lands in (film.add_splat), so the film
+adds up every pixel's light from every thread's paths.
+
+The throughput of a light path starts at Le / p(point) x pi (the cosine draw
+cancels cos / pi) and is multiplied by each bounce's weight f |cos| / pdf, the
+cosine of the new direction: shading normals are the shapes' own here, so
+transport in this direction needs no correction.  A connection adds beta x
+f(wo, towards the lens) |cos| x W_e / p_lens, which film.py divides by spp.
+
+What it renders well: light reaching smooth surfaces through glass or off a
+mirror (caustics), which camera paths find only by chance.  What it cannot:
+a delta surface seen by the camera (a mirror, glass: black), and a background
+that emits (the scene must have a black one; renderer.freeze says so).
+max_depth counts segments as the path tracer's does, the last one to the camera
+included, so both render the same set of paths.
+"""
+import math
+
+import numpy as np
+
+from ...kernel import sampler
+from ...kernel.jit import jit_kernel, jit_step
+from ...kernel.vec3 import madd, mul, neg, scale
+from .. import camera, lights, materials, media as volumes, shapes
+from .. import film as films
+from .. import textures as texturing
+from ..bvh import closest_hit, unoccluded
+from ..film import SEGMENTS
+from ..layout import LIGHT_PROB, NO_HIT, OBJ_MAT
+from ..materials import isotropic, lambertian
+from ..roulette import roulette
+from ..surface import surface_at
+
+SPLATS = True           # its film has the splat arrays (film.py)
+ZERO = (0.0, 0.0, 0.0)
+ROULETTE_DEPTH = 2      # segments before Russian roulette may end a path
+
+
+@jit_step
+def to_lens(params, p, smp):
+    """(wi, distance, W_e / p_lens, x, y, on_film, smp): a point of the lens
+    seen from p, and the factor a connection to it carries."""
+    u1, u2, smp = sampler.next_2d(smp)
+    wi, dist, pdf, we, x, y, on_film = camera.sample_lens(params.cam, params.width,
+                                                          params.height, p, u1, u2)
+    if not on_film or pdf <= 0.0:
+        return wi, dist, 0.0, x, y, False, smp
+    return wi, dist, we / pdf, x, y, True, smp
+
+
+@jit_step
+def deliver(scene, params, film, light, p, wi, dist, from_obj, from_inside, x, y, source,
+            time, media):
+    """Splat `light` at pixel (x, y) if the segment from p towards the lens is
+    clear (and through the media's transmittance)."""
+    if not unoccluded(scene, p, wi, dist, from_obj, from_inside, time):
+        return
+    if media is not None:
+        light = scale(light, volumes.transmittance(scene, media, p, wi, dist, time))
+    films.add_splat(film, min(int(x), params.width - 1), min(int(y), params.height - 1),
+                    light, params.clamp, source)
+
+
+@jit_step
+def connect_surface(scene, params, film, hit, bsdf, wo, beta, source, time, media, smp):
+    """Connect a smooth surface vertex (light arriving from wo with throughput
+    beta) to the camera."""
+    wi, dist, c, x, y, on_film, smp = to_lens(params, hit.p, smp)
+    if not on_film:
+        return smp
+    att, f = materials.eval(bsdf, wo, wi, c)
+    if f > 0.0:
+        deliver(scene, params, film, (beta[0] * att[0] * f, beta[1] * att[1] * f,
+                                      beta[2] * att[2] * f), hit.p, wi, dist, hit.obj,
+                shapes.enters(scene, hit.obj, hit.n_out, wi), x, y, source, time, media)
+    return smp
+
+
+@jit_step
+def connect_medium(scene, params, film, p, albedo, beta, source, time, media, smp):
+    """Connect a point where the path scattered in a medium (isotropic phase
+    function, no cosine) to the camera."""
+    wi, dist, c, x, y, on_film, smp = to_lens(params, p, smp)
+    if on_film:
+        f = isotropic.pdf() * c
+        deliver(scene, params, film, scale(mul(beta, albedo), f), p, wi, dist, NO_HIT, False,
+                x, y, source, time, media)
+    return smp
+
+
+@jit_step
+def start_on_a_light(scene, params, film, source, time, textures, media, smp):
+    """A light path's first vertex: connected to the camera, then its first
+    direction.  Returns (p, direction, emitter, from_inside, throughput, smp);
+    throughput 0: no path."""
+    u, smp = sampler.uniform(smp)
+    row = lights.pick(scene, u)
+    u1, u2, smp = sampler.next_2d(smp)
+    k, p, n, pdf_area = lights.sample_point(scene, row, u1, u2, time)
+    m = scene.obj_i[k, OBJ_MAT]
+    emit = materials.color(scene, m)
+    if textures is not None:
+        emit = texturing.color_at(scene, textures, m, k, p, emit, time)
+    beta = scale(emit, 1.0 / (pdf_area * scene.light_f[row, LIGHT_PROB]))   # Le / p(point)
+    # The light seen directly: the emitter's cosine towards the lens (its front only).
+    wi, dist, c, x, y, on_film, smp = to_lens(params, p, smp)
+    cosine = wi[0] * n[0] + wi[1] * n[1] + wi[2] * n[2]
+    if on_film and cosine > 0.0 and params.max_depth >= 1:
+        deliver(scene, params, film, scale(beta, cosine * c), p, wi, dist, k,
+                shapes.enters(scene, k, n, wi), x, y, source, time, media)
+    u1, u2, smp = sampler.next_2d(smp)
+    d = lambertian.cosine_at(n, u1, u2)       # about the front: the density is cos / pi
+    return p, d, k, shapes.enters(scene, k, n, d), scale(beta, math.pi), smp
+
+
+@jit_step
+def trace_light(scene, params, film, source, time, textures, media, smp):
+    """One light path, its connections splatted: (segments traced, smp)."""
+    o, d, from_obj, from_inside, beta, smp = start_on_a_light(scene, params, film, source,
+                                                              time, textures, media, smp)
+    start = max(beta[0], beta[1], beta[2])
+    segments, depth = 0, 0
+    while start > 0.0 and depth + 1 < params.max_depth:
+        k, t = closest_hit(scene, o, d, math.inf, from_obj, from_inside, time)
+        segments += 1
+        depth += 1
+        if media is not None:
+            medium, tm, smp = volumes.free_flight(scene, media, o, d, t, time, smp)
+            if medium != NO_HIT:
+                o = madd(o, d, tm)
+                m = scene.obj_i[medium, OBJ_MAT]
+                albedo = materials.color(scene, m)
+                if textures is not None:
+                    albedo = texturing.color_at(scene, textures, m, NO_HIT, o, albedo, time)
+                smp = connect_medium(scene, params, film, o, albedo, beta, source, time, media,
+                                     smp)
+                d, state = isotropic.sample(smp.state)
+                smp = sampler.resume(smp, state)
+                beta = mul(beta, albedo)
+                from_obj, from_inside = np.int64(NO_HIT), np.bool_(False)
+                if depth >= ROULETTE_DEPTH:
+                    alive, beta, smp = roulette(beta, start, smp)
+                    if not alive:
+                        break
+                continue
+        if k == NO_HIT:
+            break
+        hit = surface_at(scene, textures, k, o, d, t, time)
+        bsdf = materials.at(scene, hit)
+        if not materials.scatters(bsdf):
+            break                               # a light absorbs what reaches it
+        wo = neg(d)
+        if not materials.delta(bsdf):
+            smp = connect_surface(scene, params, film, hit, bsdf, wo, beta, source, time, media,
+                                  smp)
+        d, weight, density, _, smp = materials.sample(bsdf, wo, smp)
+        if density == 0.0:
+            break
+        beta = mul(beta, weight)
+        o, from_obj = hit.p, np.int64(k)
+        from_inside = shapes.enters(scene, k, hit.n_out, d)
+        if depth >= ROULETTE_DEPTH:
+            alive, beta, smp = roulette(beta, start, smp)
+            if not alive:
+                break
+    return segments, smp
+
+
+@jit_step
+def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
+    """Trace the light paths of samples s0..s1-1 of the pixels of row y (their
+    keys), splatting what they bring to the camera."""
+    segments = 0
+    width = params.width
+    for x in range(width):
+        pixel = y * width + x
+        for s in range(s0, s1):
+            smp = sampler.start(pixel, s, params.seed, params.pairs)
+            if motion is not None:
+                time, smp = sampler.uniform(smp)
+            else:
+                time = None
+            n, smp = trace_light(scene, params, film, y, time, textures, media, smp)
+            segments += n
+            # The camera's part of the pixel: nothing (it keeps the film's counts).
+            films.add_sample(film, y, x, s, 0.0, 0.0, 0.0, params.clamp, 0.0, 0.0, 0.0)
+    film.row_stats[y, SEGMENTS] += segments
+
+
+@jit_kernel
+def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion):
+    """The light paths of samples s0..s1-1 of the pixels of `rows` (one
+    thread's share of a pass: kernel/rows.py); their splats may land anywhere,
+    atomically (film.py)."""
+    for k in range(rows.shape[0]):
+        render_row(rows[k], film, scene, params, s0, s1, events, textures, media, motion)
