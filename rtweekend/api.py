@@ -17,7 +17,7 @@ from .scene import Scene
 
 def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
            max_depth=None, threads=None, sampling=None, progress=False, bvh=None,
-           clamp=None, client=None):
+           clamp=None, client=None, aov=None):
     """Render `scene`; returns RenderResult, which unpacks as (image, stats).
 
     A classic (Computer Graphics from Scratch) scene is ray traced once per
@@ -38,6 +38,11 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt.
     client: a dask.distributed Client: render blocks of samples on its workers
     instead, bit-identical to rendering here (rtweekend.distributed).
+    aov: feature images for a denoiser, ("albedo", "normal") or one of them:
+    result.aov["albedo"] is the albedo of what each pixel's paths first see
+    through mirrors and glass (times their colour), result.aov["normal"] its
+    normal facing the camera, both averaged over the pixel's samples; the image
+    is the same as without them.
     """
     if not isinstance(scene, Scene):
         raise SceneError(f"render: expected a Scene (rt.load_scene or rt.Scene), "
@@ -47,7 +52,8 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
         check_render(scene, threads)
     options = RenderOptions(integrator, spp=spp, time=time, seed=seed, width=width,
                             height=height, max_depth=max_depth, threads=threads,
-                            sampling=sampling, clamp=clamp, bvh=bvh, progress=progress)
+                            sampling=sampling, clamp=clamp, bvh=bvh, aov=aov,
+                            progress=progress)
     if integrator == "classic":
         return render_classic(scene, options)
     renderer = Renderer(scene, options)

@@ -63,7 +63,9 @@ SAMPLINGS = {
 # scenes (benchmarks/accuracy.py; README, Accuracy).  "mixture" is the books'.
 DEFAULT_SAMPLING = "mixture+sobol"
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.
-PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh")
+PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh", "aov")
+# Feature images a path-traced render can add (film.py: for denoisers).
+AOVS = ("albedo", "normal")
 # The numeric options (checks.option holds each one's rule).
 NUMBERS = ("spp", "time", "seed", "width", "height", "max_depth", "threads", "clamp")
 
@@ -78,6 +80,8 @@ class RenderOptions:
     sampling: a key of SAMPLINGS (path only; None: DEFAULT_SAMPLING).
     clamp: cap on each sample's channels (biased; None: off).
     bvh: force the hierarchy on or off (None: by the scene's size).
+    aov: feature images to add, some of AOVS (None or (): none): the albedo and
+    normal of what each pixel's paths first see through mirrors and glass.
     progress: True for a bar on stderr, a callable, or False.
     """
     integrator: str = "path"
@@ -91,6 +95,7 @@ class RenderOptions:
     sampling: str | None = None
     clamp: float | None = None
     bvh: bool | None = None
+    aov: tuple | None = None
     progress: object = False
 
     def __post_init__(self):
@@ -113,6 +118,27 @@ class RenderOptions:
                              f"got {self.sampling!r}")
         if self.bvh is not None and not isinstance(self.bvh, bool):
             raise SceneError(f"render: bvh: must be True, False or None, got {self.bvh!r}")
+        self._check_aov()
+
+    def _check_aov(self):
+        """aov: None, or names of AOVS (a string of them separated by commas too)."""
+        aov = self.aov
+        if aov is None:
+            return
+        if isinstance(aov, str):
+            aov = [a.strip() for a in aov.split(",") if a.strip()]
+        if not isinstance(aov, (list, tuple)) or not all(isinstance(a, str) for a in aov):
+            raise SceneError(f"render: aov: expected names among {', '.join(AOVS)}, got {aov!r}")
+        for a in aov:
+            if a not in AOVS:
+                close = difflib.get_close_matches(a, AOVS, n=1)
+                hint = f" (did you mean '{close[0]}'?)" if close else ""
+                raise SceneError(f"render: aov: unknown feature '{a}'{hint}; expected "
+                                 f"{', '.join(AOVS)}")
+        if aov and self.strategy.estimator != "path":
+            raise SceneError(f"render: aov: {self.sampling} traces no paths from the camera, "
+                             "so it has no feature images; use a path-tracing sampling")
+        object.__setattr__(self, "aov", tuple(dict.fromkeys(aov)) or None)
 
     def _check_classic(self):
         for name in PATH_ONLY:

@@ -86,11 +86,13 @@ class RenderResult:
     tone map writes back as c exactly); stats: RenderStats; stderr: HxWx3
     float32 per-pixel standard error, estimated from the samples' own variance
     (0 for a classic scene).  save_image(result) and save_image(result.image)
-    write the same file.
+    write the same file.  aov: the feature images asked for (render(...,
+    aov=("albedo", "normal"))), {name: HxWx3 float32}; {} otherwise.
     """
 
-    def __init__(self, image, stats, stderr):
+    def __init__(self, image, stats, stderr, aov=None):
         self.image, self.stats, self.stderr = image, stats, stderr
+        self.aov = aov or {}
 
     def __iter__(self):
         return iter((self.image, self.stats))

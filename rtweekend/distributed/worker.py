@@ -18,7 +18,8 @@ from .cluster import THREADS_VAR
 
 def unpack(out, height, width):
     """A task's result as a Film (the emptied partial sums of a full block come as None)."""
-    fresh = films.new_film(height, width, out["fields"]["splat"].size > 0)
+    fresh = films.new_film(height, width, out["fields"]["splat"].size > 0,
+                           out["fields"]["albedo"].size > 0)
     return fresh._replace(**{name: value for name, value in out["fields"].items()
                              if value is not None})
 
@@ -79,7 +80,8 @@ def warm_worker(frame):
         t0 = _time.perf_counter()
         with _KERNEL, collector_paused():
             _numba_threads()
-            render_samples(frame, films.new_film(frame.height, frame.width, splats(frame)), 0, 0)
+            render_samples(frame, films.new_film(frame.height, frame.width, splats(frame),
+                                                 frame.aov), 0, 0)
             threads = numba.get_num_threads()
         _WORKER["info"] = dict(environment(), compile_seconds=_time.perf_counter() - t0,
                                pid=os.getpid(), address=_address(), numba_threads=threads)

@@ -59,11 +59,15 @@ class Film(NamedTuple):
     splat_total: np.ndarray  # int64 [H, W, 3]: whole blocks' splats
     block2: np.ndarray     # float64 [H, W, 3]: sum over whole blocks of (block value)^2
     marked: np.ndarray     # float64 [H, W, 3]: accum when the last block was folded
+    albedo: np.ndarray     # float64 [H, W, 3]: sum of the samples' albedo ([0, 0, 3]: none)
+    normal: np.ndarray     # float64 [H, W, 3]: sum of their normals
 
 
-def new_film(height, width, splats=False):
-    """A film of zeros; with the splat arrays if the estimator splats."""
+def new_film(height, width, splats=False, aov=False):
+    """A film of zeros; with the splat arrays if the estimator splats, and the
+    feature images if asked for."""
     size = (height, width, 3) if splats else (0, 0, 3)
+    features = (height, width, 3) if aov else (0, 0, 3)
     return Film(np.zeros((height, width, 3)), np.zeros((height, width, 3)),
                 np.zeros((height, width, 3)), np.zeros((height, width, 3)),
                 np.zeros((height, width), dtype=np.int64),
@@ -71,12 +75,12 @@ def new_film(height, width, splats=False):
                 np.zeros((height, HIST_BINS), dtype=np.int64),
                 np.zeros((height, HIST_BINS)),
                 np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.int64),
-                np.zeros(size), np.zeros(size))
+                np.zeros(size), np.zeros(size), np.zeros(features), np.zeros(features))
 
 
-def film_bytes(height, width, splats=False):
-    """The bytes new_film(height, width, splats) allocates."""
-    per_pixel = 4 * 3 * 8 + 8 + (4 * 3 * 8 if splats else 0)
+def film_bytes(height, width, splats=False, aov=False):
+    """The bytes new_film(height, width, splats, aov) allocates."""
+    per_pixel = 4 * 3 * 8 + 8 + (4 * 3 * 8 if splats else 0) + (2 * 3 * 8 if aov else 0)
     return height * width * per_pixel + height * (2 * 8 + HIST_BINS * (8 + 8))
 
 
@@ -88,9 +92,10 @@ def film_bytes(height, width, splats=False):
 RESULT_BYTES_PER_PIXEL = 200
 
 
-def render_bytes(height, width, splats=False):
+def render_bytes(height, width, splats=False, aov=False):
     """About the most memory a render of this size holds at once."""
-    return film_bytes(height, width, splats) + RESULT_BYTES_PER_PIXEL * height * width
+    return film_bytes(height, width, splats, aov) + \
+        RESULT_BYTES_PER_PIXEL * (3 if aov else 1) * height * width
 
 
 def merge(film, other):
@@ -124,6 +129,15 @@ def add_splat(film, x, y, light, clamp, source):
     atomic_add(film.splat, (y, x, 1), np.int64(g * SPLAT_SCALE + 0.5))
     atomic_add(film.splat, (y, x, 2), np.int64(b * SPLAT_SCALE + 0.5))
     count_value(film, source, (r + g + b) / 3.0)
+
+
+@jit_step
+def add_features(film, y, x, albedo, normal):
+    """Add a sample's feature images to pixel (x, y) (every sample drawn: they
+    are divided by the samples drawn, not by those kept)."""
+    for c in range(3):
+        film.albedo[y, x, c] += albedo[c]
+        film.normal[y, x, c] += normal[c]
 
 
 def fold_splats(film):
@@ -199,6 +213,16 @@ def _with_splats(film, mean, spp):
     var = (film.block2 - total * total / blocks) / (blocks - 1)     # of one block's value
     stderr = np.sqrt(np.maximum(var, 0.0) / blocks) / BLOCK_SPP
     return mean.astype(np.float32), stderr.astype(np.float32)
+
+
+def features(film, samples):
+    """{name: HxWx3 float32 mean} of the feature images the film has (none: {});
+    samples: the samples drawn in each row ([H])."""
+    if not film.albedo.size:
+        return {}
+    n = np.asarray(samples, dtype=np.float64)[:, None, None]
+    return {name: np.divide(total, n, out=np.zeros_like(total), where=n > 0).astype(np.float32)
+            for name, total in (("albedo", film.albedo), ("normal", film.normal))}
 
 
 def firefly_stats(film, image_mean):

@@ -36,6 +36,7 @@ class Frame(NamedTuple):
     rows: np.ndarray        # the order rows go to threads
     features: Features = Features()   # what the kernel is compiled with (layout.py)
     estimator: str = "path"           # which of integrators.ESTIMATORS renders it
+    aov: bool = False                 # the film keeps feature images (film.py)
 
     @property
     def width(self):
@@ -76,7 +77,8 @@ def freeze(scene, options):
                         *pack_features(scene, arrays))
     if strategy.estimator == "light":
         _check_light_tracing(options, arrays)
-    return Frame(arrays, params, interleaved_rows(camera.height), features, strategy.estimator)
+    return Frame(arrays, params, interleaved_rows(camera.height), features, strategy.estimator,
+                 bool(options.aov))
 
 
 def _check_light_tracing(options, arrays):
@@ -133,7 +135,7 @@ def block_film(frame, s0, s1):
     """A fresh film of samples s0 .. s1 - 1, s0 on a block boundary (for workers)."""
     if s0 % BLOCK_SPP:
         raise ValueError(f"block_film: s0 = {s0} is not a multiple of {BLOCK_SPP}")
-    film = films.new_film(frame.height, frame.width, splats(frame))
+    film = films.new_film(frame.height, frame.width, splats(frame), frame.aov)
     render_samples(frame, film, s0, s1)
     return film
 
@@ -154,9 +156,9 @@ class Renderer:
         self.frame = freeze(scene, options)
         self.width, self.height = self.frame.width, self.frame.height
         # Before the film is allocated: beyond the memory, one line, nothing done.
-        memory.check(films.render_bytes(self.height, self.width, splats(self.frame)),
-                     self.width, self.height)
-        self.film = films.new_film(self.height, self.width, splats(self.frame))
+        memory.check(films.render_bytes(self.height, self.width, splats(self.frame),
+                                        self.frame.aov), self.width, self.height)
+        self.film = films.new_film(self.height, self.width, splats(self.frame), self.frame.aov)
         self.spp = 0               # samples per pixel so far, in every pixel
         self.band = 0              # a pass over part of the rows in progress: its spp
         self.rows_done = 0         # ... and how many of frame.rows have them
@@ -245,4 +247,9 @@ class Renderer:
             clamp=None if math.isinf(clamp) else clamp,
             stopped_by=stopped_by if interrupted else None,
             partial_rows=self.rows_done, partial_spp=self.band)
-        return RenderResult(image, stats, stderr)
+        wanted = self.options.aov or ()
+        samples = np.full(self.height, self.spp)
+        samples[self.frame.rows[:self.rows_done]] += self.band     # a pass over part of the rows
+        return RenderResult(image, stats, stderr, {k: v for k, v in
+                                                   films.features(self.film, samples).items()
+                                                   if k in wanted})

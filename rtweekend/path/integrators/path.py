@@ -92,15 +92,26 @@ def shadow_light(scene, media, shadow, k, time):
 
 @jit_step
 def scatter_in_medium(scene, params, textures, medium, p, use_lights, time, smp):
-    """(direction, weight, smp) at p, where the ray scattered inside `medium`
-    (an object whose material is its phase function)."""
+    """(direction, weight, albedo, smp) at p, where the ray scattered inside
+    `medium` (an object whose material is its phase function)."""
     m = scene.obj_i[medium, OBJ_MAT]
     albedo = materials.color(scene, m)
     if textures is not None:
         albedo = texturing.color_at(scene, textures, m, NO_HIT, p, albedo, time)
     d, w, smp = volumes.phase_scatter(
         scene, p, params.light_weight if use_lights else 0.0, use_lights, time, smp)
-    return d, scale(albedo, w), smp
+    return d, scale(albedo, w), albedo, smp
+
+
+@jit_step
+def first_seen(bsdf, hit, beta):
+    """The feature images' (albedo, normal) at the first hit that is no mirror
+    or glass (beta: the colour of those on the way): the material's albedo, or
+    a light's radiance capped at 1, and the shading normal facing the ray."""
+    emits, e = materials.emitted(bsdf)
+    if emits or not materials.scatters(bsdf):
+        return mul(beta, (min(e[0], 1.0), min(e[1], 1.0), min(e[2], 1.0))), hit.n
+    return mul(beta, bsdf.albedo), hit.n
 
 
 @jit_step
@@ -146,9 +157,12 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
 
 
 @jit_step
-def trace(scene, params, o, d, time, smp, events, textures, media):
+def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x, looking):
     """The radiance along the camera ray (o, d): (radiance, seen, segments, smp),
-    seen being what the camera ray saw emitted (no firefly: film.py)."""
+    seen being what the camera ray saw emitted (no firefly: film.py).  When
+    `looking` (the film keeps feature images), the albedo and normal of what the
+    path first sees through mirrors and glass go to pixel (x, y) of the film
+    there and then (nothing more to carry round the loop)."""
     use_lights = scene.lights.shape[0] > 0 and params.light_weight > 0.0
     radiance, seen, beta = ZERO, ZERO, ONE
     # np.int64 / np.bool_: typed as plain int64 and bool from the start, not as
@@ -173,9 +187,13 @@ def trace(scene, params, o, d, time, smp, events, textures, media):
         if media is not None:
             medium, tm, smp = volumes.free_flight(scene, media, o, d, t, time, smp)
             if medium != NO_HIT:        # scattered inside a medium, at no surface
-                o = madd(o, d, tm)
-                d, weight, smp = scatter_in_medium(scene, params, textures, medium, o,
-                                                   use_lights, time, smp)
+                o, towards_camera = madd(o, d, tm), neg(d)
+                d, weight, medium_albedo, smp = scatter_in_medium(scene, params, textures,
+                                                                  medium, o, use_lights, time,
+                                                                  smp)
+                if looking:
+                    films.add_features(film, y, x, mul(beta, medium_albedo), towards_camera)
+                    looking = False
                 beta = mul(beta, weight)
                 from_obj, from_inside, continuation = np.int64(NO_HIT), np.bool_(False), 0.0
                 depth += 1
@@ -184,10 +202,18 @@ def trace(scene, params, o, d, time, smp, events, textures, media):
                 alive, beta, smp = roulette_after(events, alive, depth, beta, smp)
                 continue
         if k == NO_HIT:
-            radiance = add(radiance, mul(beta, background(scene, d)))
+            e = background(scene, d)
+            radiance = add(radiance, mul(beta, e))
+            if looking:
+                films.add_features(film, y, x, mul(beta, (min(e[0], 1.0), min(e[1], 1.0),
+                                                          min(e[2], 1.0))), ZERO)
             break
         hit = surface_at(scene, textures, k, o, d, t, time)
         bsdf = materials.at(scene, hit)
+        if looking and not materials.delta(bsdf):
+            albedo, normal = first_seen(bsdf, hit, beta)
+            films.add_features(film, y, x, albedo, normal)
+            looking = False
         emits, e, w = emission(scene, hit, bsdf, o, d, from_obj, from_inside, continuation,
                                time, events)
         if emits:
@@ -219,6 +245,7 @@ def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
     """Trace samples s0..s1-1 of every pixel of row y into the film."""
     segments = 0
     width = params.width
+    want = film.albedo.shape[0] > 0        # feature images: a run-time test, no variant
     for x in range(width):
         pixel = y * width + x
         for s in range(s0, s1):
@@ -229,7 +256,7 @@ def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
             else:
                 time = None
             radiance, seen, n, smp = trace(scene, params, o, d, time, smp, events, textures,
-                                           media)
+                                           media, film, y, x, want)
             segments += n
             films.add_sample(film, y, x, s, radiance[0], radiance[1], radiance[2],
                              params.clamp, seen[0], seen[1], seen[2])

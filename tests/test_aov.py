@@ -1,0 +1,95 @@
+"""Feature images (aov): the albedo and normal of what each pixel's paths first
+see through mirrors and glass, for denoisers -- exact where the scene says what
+they must be, and free of any effect on the image."""
+import numpy as np
+import pytest
+
+import rtweekend as rt
+from rtweekend.errors import SceneError
+from rtweekend.path.renderer import Renderer
+
+BOTH = ("albedo", "normal")
+
+
+def test_asking_for_features_changes_nothing_in_the_image():
+    scene = rt.load_scene("cornell_glass")
+    plain = rt.render(scene, spp=8, width=24, height=24, seed=2)
+    asked = rt.render(scene, spp=8, width=24, height=24, seed=2, aov=BOTH)
+    assert np.array_equal(plain.image, asked.image)
+    assert np.array_equal(plain.stderr, asked.stderr)
+    assert plain.aov == {} and set(asked.aov) == set(BOTH)
+    assert asked.aov["albedo"].shape == (24, 24, 3) and asked.aov["albedo"].dtype == np.float32
+    only = rt.render(scene, spp=8, width=24, height=24, seed=2, aov="normal")
+    assert list(only.aov) == ["normal"]
+    assert np.array_equal(only.aov["normal"], asked.aov["normal"])
+
+
+def test_features_are_the_same_for_any_thread_count_and_pass_split():
+    scene = rt.load_scene("cornell_smoke")
+    one = rt.render(scene, spp=6, width=20, height=16, seed=4, threads=1, aov=BOTH)
+    r = Renderer(scene, width=20, height=16, seed=4, threads=2, aov=BOTH)
+    r.add_samples(2)
+    for _ in range(2):
+        r.add_rows(1, 7)
+        r.add_rows(1, 9)
+    r.add_samples(2)
+    split = r.result()
+    for name in BOTH:
+        assert np.array_equal(one.aov[name], split.aov[name])
+    partial = Renderer(scene, width=20, height=16, seed=4, aov=BOTH)
+    partial.add_samples(2)
+    partial.add_rows(1, 5)             # five rows have 3 samples, the others 2: each its own
+    features = partial.result().aov["albedo"]
+    assert np.isfinite(features).all() and features.max() <= 1.0
+
+
+def _wall_scene(mirror):
+    """A camera looking at a lambertian wall (albedo 0.5, facing it), or at a
+    mirror (albedo 0.8) that shows it the wall behind the camera."""
+    white = rt.lambertian((0.5, 0.5, 0.5))
+    light = rt.diffuse_light((2, 2, 2))
+    if not mirror:
+        scene = rt.Scene(camera=rt.Camera(lookfrom=(0, 0, 0), lookat=(0, 0, -1), vfov=30,
+                                          width=8, height=8))
+        scene.add(rt.xy_rect(-50, 50, -50, 50, -5, white))
+    else:
+        scene = rt.Scene(camera=rt.Camera(lookfrom=(0, 0, 0), lookat=(0, 0, -1), vfov=30,
+                                          width=8, height=8))
+        scene.add(rt.xy_rect(-50, 50, -50, 50, -5, rt.metal((0.8, 0.8, 0.8), 0.0)))
+        scene.add(rt.xy_rect(-50, 50, -50, 50, 5, white).flip_face())
+    scene.add(rt.xz_rect(-50, 50, -50, 50, 20, light).flip_face(), light=True)
+    return scene
+
+
+@pytest.mark.parametrize("mirror", [False, True], ids=["wall", "through a mirror"])
+def test_the_albedo_and_normal_of_what_is_seen(mirror):
+    r = rt.render(_wall_scene(mirror), spp=4, seed=1, aov=BOTH)
+    expected = 0.8 * 0.5 if mirror else 0.5
+    np.testing.assert_allclose(r.aov["albedo"], expected, rtol=1e-6)
+    normal = (0, 0, -1) if mirror else (0, 0, 1)       # the seen wall's, facing the ray
+    np.testing.assert_allclose(r.aov["normal"], np.broadcast_to(normal, (8, 8, 3)), atol=1e-6)
+
+
+def test_the_background_gives_its_colour_and_no_normal():
+    scene = rt.Scene(camera=rt.Camera(width=4, height=4), background=(0.2, 0.4, 3.0))
+    scene.add(rt.sphere((0, 0, -50), 1, rt.lambertian((0.5, 0.5, 0.5))))
+    r = rt.render(scene, spp=2, seed=1, width=4, height=4, aov=BOTH)
+    np.testing.assert_allclose(r.aov["albedo"][0, 0], (0.2, 0.4, 1.0), rtol=1e-6)
+    assert (r.aov["normal"][0, 0] == 0).all()
+
+
+@pytest.mark.parametrize("aov, message", [
+    (("albedo", "normals"), "did you mean 'normal'"),
+    ("depth", "unknown feature 'depth'"),
+    (5, "expected names among albedo, normal"),
+])
+def test_bad_feature_names_are_one_line(aov, message):
+    with pytest.raises(SceneError, match=message) as e:
+        rt.render(rt.load_scene("cornell_box"), spp=1, width=4, height=4, aov=aov)
+    assert "\n" not in str(e.value)
+
+
+def test_light_tracing_has_no_features():
+    with pytest.raises(SceneError, match="no feature images"):
+        rt.render(rt.load_scene("cornell_box"), spp=1, width=4, height=4,
+                  sampling="lightpath", aov=BOTH)
