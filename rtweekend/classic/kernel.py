@@ -28,7 +28,7 @@ import math
 import numba
 import numpy as np
 
-from ..kernel.jit import jit, jit_parallel
+from ..kernel.jit import jit_parallel, jit_step
 from ..kernel.rows import interleaved_rows
 from ..kernel.vec3 import dot, length, madd, neg, scale, sub, unit
 
@@ -44,7 +44,7 @@ LIGHT_FLOATS = 4
 LIGHT_KINDS = {"ambient": AMBIENT, "point": POINT, "directional": DIRECTIONAL}
 
 
-@jit
+@jit_step
 def intersect_ray_sphere(sph_f, k, o, d):
     """IntersectRaySphere: both roots t of |o + t d - center|^2 = r^2, or (inf, inf).
 
@@ -64,7 +64,7 @@ def intersect_ray_sphere(sph_f, k, o, d):
     return (-half_b + sq) / a, (-half_b - sq) / a
 
 
-@jit
+@jit_step
 def closest_intersection(sph_f, o, d, t_min, t_max):
     """ClosestIntersection: (sphere, t) of the smallest root in (t_min, t_max),
     or (NO_HIT, inf).  Ties go to the first sphere and root, as in the book."""
@@ -81,7 +81,7 @@ def closest_intersection(sph_f, o, d, t_min, t_max):
     return closest, closest_t
 
 
-@jit
+@jit_step
 def occluded(sph_f, o, d, t_min, t_max):
     """Is any sphere hit in (t_min, t_max)?  The book asks ClosestIntersection,
     but a shadow only needs some blocker, so the first one found ends the search."""
@@ -92,7 +92,7 @@ def occluded(sph_f, o, d, t_min, t_max):
     return False
 
 
-@jit
+@jit_step
 def compute_lighting(sph_f, light_i, light_f, p, n, v, s):
     """ComputeLighting: (intensity I_P at p, shadow rays cast), for the unit
     normal n, the direction to the viewer v and specular exponent s (-1: matte)."""
@@ -130,13 +130,13 @@ def compute_lighting(sph_f, light_i, light_f, p, n, v, s):
     return i, shadow_rays
 
 
-@jit
+@jit_step
 def reflect_ray(r, n):
     """ReflectRay: r mirrored about n, 2N<N,R> - R (r points away from the surface)."""
     return sub(scale(n, 2.0 * dot(n, r)), r)
 
 
-@jit
+@jit_step
 def trace_ray(sph_f, light_i, light_f, o, d, t_min, t_max, depth, bg):
     """TraceRay: (colour on the 0..255 scale, unclamped; rays cast) along o + t d.
 
@@ -170,13 +170,13 @@ def trace_ray(sph_f, light_i, light_f, o, d, t_min, t_max, depth, bg):
         depth -= 1
 
 
-@jit
+@jit_step
 def canvas_to_viewport(x, y, cw, ch, vw, vh, d):
     """CanvasToViewport: the point of the viewport (at distance d) under canvas (x, y)."""
     return (x * vw / cw, y * vh / ch, d)
 
 
-@jit
+@jit_step
 def rotate(m, v):
     """m . v for a 3x3 matrix m (the camera rotation)."""
     return (m[0, 0] * v[0] + m[0, 1] * v[1] + m[0, 2] * v[2],
@@ -184,7 +184,7 @@ def rotate(m, v):
             m[2, 0] * v[0] + m[2, 1] * v[1] + m[2, 2] * v[2])
 
 
-@jit
+@jit_step
 def to_byte(c):
     """What a Uint8ClampedArray stores for c: round half to even, clamp, NaN -> 0."""
     if c >= 255.0:

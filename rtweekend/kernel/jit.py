@@ -79,12 +79,6 @@ def _cache_dir():
 config.CACHE_DIR = _cache_dir()
 
 
-def jit(fn):
-    """A small helper of scalars and tuples, also callable from Python (tests);
-    LLVM inlines it where it is worth it."""
-    return njit(**_OPTIONS)(fn)
-
-
 class _InlinedDispatcher(CPUDispatcher):
     """Numba's dispatcher, but LLVM must inline every function it compiles
     (the LLVM attribute alwaysinline) into whatever calls it."""
@@ -104,8 +98,9 @@ class _InlinedDispatcher(CPUDispatcher):
         super().add_overload(cres)
 
     def __call__(self, *args):
-        """From Python (tests, benchmarks): through a compiled function that calls
-        it, made on first use (a step has no wrapper for Python of its own)."""
+        """From Python (tests, benchmarks): through a small compiled function that
+        calls it, made on first use (a step has no wrapper for Python of its own:
+        building one for every step cost a tenth of a cold compile)."""
         entries = self.__dict__.setdefault("_entries", {})
         if len(args) not in entries:
             names = ", ".join(f"a{i}" for i in range(len(args)))
@@ -120,7 +115,8 @@ def jit_step(fn):
     compiled once for each signature on its own, then inlined by LLVM into every
     caller.
 
-    Why not the alternatives: Numba's own inlining (inline="always") copies the
+    Every compiled helper of the kernels is one, down to vec3's dot.  Why not
+    the alternatives: Numba's own inlining (inline="always") copies the
     callee's IR into each caller and types it again there, and typing is most of
     a compile (about 1 ms per statement): the path loop written that way took
     8 s to compile.  A plain call passes every array of a NamedTuple argument,
@@ -130,11 +126,11 @@ def jit_step(fn):
 
     No reference counting (Numba's NRT off, an option that is not public API):
     a step takes the kernel's arrays, which the kernel holds for the whole call,
-    and allocates nothing (one that did would fail to compile, loudly).  No
-    wrapper for Python: steps are called from compiled code only (tests call
-    them from their own @njit functions).  The attribute is set on the function
-    after Numba compiles it and before any caller links it in (a Numba internal:
-    tests/test_cache.py checks that kernels hold no call to a step).
+    and allocates nothing (one that did would fail to compile, loudly).  Called
+    from Python, it goes through a compiled entry (__call__ above).  The
+    attribute is set on the function after Numba compiles it and before any
+    caller links it in (a Numba internal: tests/test_cache.py checks that
+    kernels hold no call to a step).
     """
     dispatcher = _InlinedDispatcher(py_func=fn, locals={}, targetoptions=_STEP_OPTIONS)
     dispatcher.enable_caching()

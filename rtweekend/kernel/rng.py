@@ -10,7 +10,7 @@ import math
 
 import numpy as np
 
-from .jit import jit
+from .jit import jit_step
 
 _GAMMA = np.uint64(0x9E3779B97F4A7C15)   # golden-ratio increment of SplitMix64
 _M1 = np.uint64(0xBF58476D1CE4E5B9)
@@ -24,7 +24,7 @@ _TO_UNIT = 1.0 / 9007199254740992.0      # 2**-53: 53 random bits -> [0, 1)
 TWO_PI = 2.0 * math.pi
 
 
-@jit
+@jit_step
 def mix64(z):
     """SplitMix64's finaliser: a bijective avalanche of 64 bits."""
     z = (z ^ (z >> _S30)) * _M1
@@ -32,21 +32,21 @@ def mix64(z):
     return z ^ (z >> _S31)
 
 
-@jit
+@jit_step
 def seed_state(pixel, sample, seed):
     """The stream start for one camera sample; pure function of its key."""
     s = mix64(np.uint64(seed) * _GAMMA + np.uint64(pixel))
     return mix64(s ^ (np.uint64(sample) * _SAMPLE_KEY + _GAMMA))
 
 
-@jit
+@jit_step
 def uniform(state):
     """(u in [0, 1), next state)."""
     state = state + _GAMMA
     return float(mix64(state) >> _S11) * _TO_UNIT, state
 
 
-@jit
+@jit_step
 def unit_vector(state):
     """A direction uniform on the unit sphere (Archimedes: z uniform)."""
     u1, state = uniform(state)
@@ -57,7 +57,7 @@ def unit_vector(state):
     return (r * math.cos(phi), r * math.sin(phi), z), state
 
 
-@jit
+@jit_step
 def in_unit_sphere(state):
     """A point uniform in the unit ball: a uniform direction at radius cbrt(u).
 
@@ -69,7 +69,7 @@ def in_unit_sphere(state):
     return (r * d[0], r * d[1], r * d[2]), state
 
 
-@jit
+@jit_step
 def in_unit_disk(state):
     """A point uniform in the unit disk (for the thin-lens aperture)."""
     u1, state = uniform(state)

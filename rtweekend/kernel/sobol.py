@@ -54,7 +54,7 @@ top i bits.  Indices are taken modulo 2^32.
 """
 import numpy as np
 
-from .jit import jit
+from .jit import jit_step
 from .rng import mix64
 
 _M32 = np.uint64(0xFFFFFFFF)
@@ -83,7 +83,7 @@ _H2 = np.uint64(0x05526C56)
 _H3 = np.uint64(0x53A22864)
 
 
-@jit
+@jit_step
 def reverse32(x):
     """The low 32 bits of x in reverse order."""
     x = ((x >> _S1) & _B1) | ((x & _B1) << _S1)
@@ -93,7 +93,7 @@ def reverse32(x):
     return ((x >> _S16) & _B16) | ((x & _B16) << _S16)
 
 
-@jit
+@jit_step
 def _permute(x, seed):
     """A seeded bijection of 32 bits whose output bit i depends on input bits <= i."""
     x = x ^ (x * _H1)
@@ -104,14 +104,14 @@ def _permute(x, seed):
     return x & _M32
 
 
-@jit
+@jit_step
 def owen_scramble(x, seed):
     """A nested uniform (Owen) scramble of the 32-bit x: bit j from the top is
     flipped by a hash of the bits above it and the seed."""
     return reverse32(_permute(reverse32(x), seed))
 
 
-@jit
+@jit_step
 def _pascal(i):
     """The Pascal matrix mod 2 times the bits of i: bit t = xor of the bits j of i
     with t a subset of j (Lucas's theorem), one bit of t per step."""
@@ -122,7 +122,7 @@ def _pascal(i):
     return i ^ ((i >> _S16) & _B16)
 
 
-@jit
+@jit_step
 def sobol_2d(index):
     """The unscrambled (0,2)-sequence: Sobol's first two dimensions of `index`
     (mod 2^32), as 32-bit integers."""
@@ -130,20 +130,20 @@ def sobol_2d(index):
     return reverse32(i), reverse32(_pascal(i))
 
 
-@jit
+@jit_step
 def to_unit(x):
     """The 32-bit integer x as a float in [0, 1): x / 2^32, exact in float64."""
     return float(x) * _TO_UNIT
 
 
-@jit
+@jit_step
 def _key(pixel, dim, seed, domain):
     """64 hashed bits of (pixel, dim, seed) for the sampler `domain`."""
     k = mix64(np.uint64(seed) * _GAMMA + np.uint64(pixel))
     return mix64(k ^ (np.uint64(dim) * _DIM_KEY + domain))
 
 
-@jit
+@jit_step
 def sample_2d(pixel, index, dim, seed):
     """(u, v) in [0, 1)^2: point `index` of pixel `pixel`'s randomisation of the
     Owen-scrambled, shuffled (0,2)-sequence of dimension pair `dim`."""
@@ -158,7 +158,7 @@ def sample_2d(pixel, index, dim, seed):
     return to_unit(x), to_unit(y)
 
 
-@jit
+@jit_step
 def sample_1d(pixel, index, dim, seed):
     """u in [0, 1): point `index` of pixel `pixel`'s randomisation of the
     Owen-scrambled, shuffled van der Corput sequence of dimension `dim`."""

@@ -4,70 +4,70 @@ Tuples live in registers inside Numba kernels, so none of these allocate.
 """
 import math
 
-from .jit import jit
+from .jit import jit_step
 
 
-@jit
+@jit_step
 def add(a, b):
     return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
 
 
-@jit
+@jit_step
 def mul(a, b):
     """Componentwise: a colour times a colour."""
     return (a[0] * b[0], a[1] * b[1], a[2] * b[2])
 
 
-@jit
+@jit_step
 def sub(a, b):
     return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
 
 
-@jit
+@jit_step
 def scale(a, s):
     return (a[0] * s, a[1] * s, a[2] * s)
 
 
-@jit
+@jit_step
 def madd(a, b, s):
     """a + s*b: a point moved along a direction."""
     return (a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2])
 
 
-@jit
+@jit_step
 def neg(a):
     return (-a[0], -a[1], -a[2])
 
 
-@jit
+@jit_step
 def dot(a, b):
     return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
-@jit
+@jit_step
 def cross(a, b):
     return (a[1] * b[2] - a[2] * b[1],
             a[2] * b[0] - a[0] * b[2],
             a[0] * b[1] - a[1] * b[0])
 
 
-@jit
+@jit_step
 def length(a):
     return math.sqrt(dot(a, a))
 
 
-@jit
+@jit_step
 def unit(a):
     return scale(a, 1.0 / length(a))
 
 
-@jit
+@jit_step
 def reflect(v, n):
     """Mirror v about the plane with unit normal n: v - 2(v.n)n."""
     return madd(v, n, -2.0 * dot(v, n))
 
 
-@jit
+@jit_step
 def refract(uv, n, etai_over_etat):
     """Snell's law for a unit direction uv against the unit normal n facing it.
 
@@ -80,7 +80,7 @@ def refract(uv, n, etai_over_etat):
     return madd(r_perp, n, -math.sqrt(k))
 
 
-@jit
+@jit_step
 def onb(w):
     """Two unit vectors (u, v) completing the unit vector w to a right-handed basis.
 
@@ -95,7 +95,7 @@ def onb(w):
     return u, v
 
 
-@jit
+@jit_step
 def local(u, v, w, a):
     """The vector with coordinates a in the basis (u, v, w)."""
     return (a[0] * u[0] + a[1] * v[0] + a[2] * w[0],

@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ..kernel.jit import jit, jit_step, like
+from ..kernel.jit import jit_step, like
 from . import shapes
 from .layout import NO_HIT, OBJ_KIND
 
@@ -122,7 +122,7 @@ def empty_bvh(n_objects, ids=None):
             else np.asarray(ids, dtype=np.int64))
 
 
-@jit
+@jit_step
 def reciprocal(x):
     """1/x, with 1/0 = inf of the same sign, under any error model (in x's precision)."""
     return like(x, 1.0) / x if x != 0.0 else math.copysign(like(x, INF), x)

@@ -26,7 +26,7 @@ material at p is asked, never its kind: its density of the shadow ray's
 direction (materials.pdf: 0 below a lambertian) and f |cos| (materials.eval).
 """
 from ..kernel import rng
-from ..kernel.jit import jit, jit_step
+from ..kernel.jit import jit_step
 from ..kernel.vec3 import dot, madd
 from . import lights, materials, pdf, shapes
 from . import textures as texturing
@@ -36,7 +36,7 @@ from .layout import NO_HIT, OBJ_MAT
 NONE = (0.0, 0.0, 0.0)
 
 
-@jit
+@jit_step
 def power_heuristic(pdf_a, pdf_b):
     """Veach's power heuristic (beta = 2) for strategy a against b."""
     a2 = pdf_a * pdf_a

@@ -17,7 +17,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel.jit import jit, jit_step
+from ..kernel.jit import jit_step
 from ..kernel.vec3 import dot, madd
 from . import materials, shapes
 from . import textures as texturing
@@ -38,7 +38,7 @@ class Surface(NamedTuple):
     uv: tuple              # texture coordinates, where a texture needed them
 
 
-@jit
+@jit_step
 def face_normal(d, n_out):
     """The books' set_face_normal: (front_face, normal facing the ray)."""
     if dot(d, n_out) < 0.0:

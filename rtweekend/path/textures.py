@@ -21,7 +21,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from ..kernel.jit import jit, jit_step
+from ..kernel.jit import jit_step
 from . import shapes
 from .layout import NO_HIT
 
@@ -108,12 +108,12 @@ def pack_textures(materials):
         np.array(images, dtype=np.int64).reshape(-1, 3))
 
 
-@jit
+@jit_step
 def _hermite(t):
     return t * t * (3.0 - 2.0 * t)
 
 
-@jit
+@jit_step
 def noise(gradients, perm, q, p):
     """The book's Perlin noise at p, in about [-1, 1], with tables q."""
     fx, fy, fz = math.floor(p[0]), math.floor(p[1]), math.floor(p[2])
@@ -133,7 +133,7 @@ def noise(gradients, perm, q, p):
     return accum
 
 
-@jit
+@jit_step
 def turbulence(gradients, perm, q, p):
     """|sum of TURB_DEPTH octaves of noise|, each at twice the frequency and half
     the weight of the one before."""
@@ -147,7 +147,7 @@ def turbulence(gradients, perm, q, p):
     return abs(accum)
 
 
-@jit
+@jit_step
 def noise_value(gradients, perm, q, style, scale, p):
     """The grey level of a noise texture at p."""
     if style == MARBLE:
@@ -158,7 +158,7 @@ def noise_value(gradients, perm, q, style, scale, p):
     return 0.5 * (1.0 + noise(gradients, perm, q, sp))
 
 
-@jit
+@jit_step
 def image_value(texels, images, i, u, v):
     """The texel under (u, v) (clamped to [0, 1]; v = 1 is the image's top row)."""
     first, width, height = images[i, 0], images[i, 1], images[i, 2]

@@ -33,7 +33,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...kernel import sampler
-from ...kernel.jit import jit, jit_kernel, jit_step
+from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, madd, mul, neg, scale
 from .. import film as films
 from .. import materials, media as volumes, nee, pdf, shapes
@@ -64,7 +64,7 @@ class Shadow(NamedTuple):
     light: tuple
 
 
-@jit
+@jit_step
 def no_shadow(o, d):
     return Shadow(np.int64(NO_HIT), o, d, np.bool_(False), INF, ZERO)
 

@@ -6,11 +6,11 @@ The choice takes one number of the stream.
 """
 import math
 
-from ...kernel.jit import jit
+from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot, reflect, refract
 
 
-@jit
+@jit_step
 def schlick(cosine, ref_idx):
     """Schlick's approximation of Fresnel reflectance."""
     r0 = (1.0 - ref_idx) / (1.0 + ref_idx)
@@ -20,7 +20,7 @@ def schlick(cosine, ref_idx):
     return r0 + (1.0 - r0) * (x2 * x2 * x)      # (1 - cos)^5 without a call to pow
 
 
-@jit
+@jit_step
 def scatter_at(d, n, front_face, ior, u):
     """The direction for a unit d meeting the normal n that faces it, and u in [0, 1):
     reflected when u < the reflectance.

@@ -3,17 +3,17 @@ direction equally likely, p = f = 1 / (4 pi), weight = albedo."""
 import math
 
 from ...kernel import rng
-from ...kernel.jit import jit
+from ...kernel.jit import jit_step
 
 INV_4PI = 1.0 / (4.0 * math.pi)
 
 
-@jit
+@jit_step
 def pdf():
     return INV_4PI
 
 
-@jit
+@jit_step
 def sample(state):
     """(direction, state): uniform over the sphere, two numbers of the stream."""
     return rng.unit_vector(state)

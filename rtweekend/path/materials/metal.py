@@ -7,11 +7,11 @@ sampled and followed, never evaluated, connected to or weighed by MIS; eval
 and pdf are 0 for it (materials.py).  With fuzz = 0 it is an ideal mirror.
 """
 from ...kernel import rng
-from ...kernel.jit import jit
+from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot, madd, reflect, unit
 
 
-@jit
+@jit_step
 def scatter(d, n, fuzz, state):
     """(direction, ok, state) for a ray along d meeting the normal n that faces it;
     ok is False when the fuzz pushed the direction under the surface (book 1

@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 from ...kernel import rng
-from ...kernel.jit import jit, jit_step, like
+from ...kernel.jit import jit_step, like
 from ...kernel.vec3 import dot, local, onb, scale
 
 INF = math.inf
@@ -124,7 +124,7 @@ def enters(obj_f, k, n, d):
     return dot(d, n) * obj_f[k, RADIUS] < 0.0
 
 
-@jit
+@jit_step
 def one_minus_cos_theta_max(r2, dist2):
     """1 - sqrt(1 - r^2/d^2), written so that it keeps its digits for small r/d."""
     x = r2 / dist2
