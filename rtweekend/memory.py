@@ -1,9 +1,11 @@
 """Will a render fit in memory?  Asked before anything large is allocated.
 
 A render's arrays are known from its size (path/film.py: render_bytes; the
-classic ray tracer's in classic/render.py); `check` compares them with the
-memory this process can still get and refuses, in one line, a render that
-would be killed by the kernel hours later or fail with a MemoryError.
+classic ray tracer's in classic/render.py) and from its scene's description
+(path/pack.py: scene_bytes: primitives, BVH, light rows, textures); `check`
+compares them with the memory this process can still get and refuses, in one
+line, a render that would be killed by the kernel hours later or fail with a
+MemoryError.
 """
 import os
 import resource
@@ -95,10 +97,17 @@ def size(n):
     return f"{n} bytes"
 
 
-def check(needed, width, height, what="render"):
-    """SceneError unless `needed` bytes fit in what this process can still get."""
+def check(needed, width, height, what="render", scene=0, objects=0):
+    """SceneError unless `needed` bytes (of which `scene` for the scene's arrays,
+    with `objects` objects) fit in what this process can still get; the message
+    names the image's size, or the scene if it needs most of it."""
     free, source = available()
-    if free is not None and needed > SHARE * free:
-        raise SceneError(f"{what}: width x height: {width}x{height} needs about "
-                         f"{size(needed)} of memory and {size(free)} is available "
-                         f"({source}); render a smaller image")
+    if free is None or needed <= SHARE * free:
+        return
+    if scene > needed / 2:
+        raise SceneError(f"{what}: the scene's {objects} objects need about {size(scene)} "
+                         f"of memory, with its {width}x{height} image {size(needed)}, and "
+                         f"{size(free)} is available ({source}); render a smaller scene")
+    raise SceneError(f"{what}: width x height: {width}x{height} needs about "
+                     f"{size(needed)} of memory and {size(free)} is available "
+                     f"({source}); render a smaller image")

@@ -223,3 +223,12 @@ def test_accuracy_summary_when_the_base_starts_after_the_equal_time(capsys):
     eq = accuracy.equal_time({"mixture+sobol": curves["mixture+sobol"],
                               "cosine": [dict(spp=1, seconds=0.5, rmse=0.4)]})
     assert accuracy.time_factor(eq, "cosine") == "4.00x mixture+sobol's time for its error"
+
+
+def test_compile_benchmark_quick(tmp_path):
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "compile.py"), "--quick",
+                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stderr[-2000:]
+    lines = r.stdout.splitlines()
+    assert lines[1].startswith("cornell_box") and lines[2].startswith("cgfs")
+    assert "sum of the cold compiles" in lines[-1]

@@ -233,6 +233,25 @@ def test_the_memory_check_comes_before_any_allocation(monkeypatch, cornell_box):
     assert allocated == []
 
 
+def test_the_memory_check_counts_the_scenes_arrays_before_packing_them(monkeypatch):
+    from rtweekend.path import pack, renderer
+    scene = rt.Scene(camera=rt.Camera(width=4, height=4))
+    for i in range(3000):
+        scene.add(rt.sphere((i, 0, -5), 0.4, rt.lambertian((0.5, 0.5, 0.5))))
+    scene.add(rt.box((0, 0, 0), (1, 1, 1), rt.diffuse_light((1, 1, 1))), light=True)
+    arrays = pack.pack_scene(scene)
+    packed = sum(a.nbytes for a in arrays if isinstance(a, np.ndarray))
+    assert packed < pack.scene_bytes(scene) < 4 * packed + 10**6
+    monkeypatch.setattr(memory, "available", lambda: (pack.scene_bytes(scene), "MemAvailable"))
+    packing = []
+    monkeypatch.setattr(renderer, "pack_scene", lambda *a, **k: packing.append(a))
+    with pytest.raises(rt.SceneError, match=r"the scene's 3001 objects need about [0-9.]+ MB "
+                       r"of memory, with its 4x4 image [0-9.]+ MB, and [0-9.]+ MB is "
+                       r"available \(MemAvailable\); render a smaller scene"):
+        rt.render(scene, spp=1)
+    assert packing == []
+
+
 def test_the_estimate_counts_the_film():
     film = films.new_film(7, 5)
     assert films.film_bytes(7, 5) == sum(a.nbytes for a in film)

@@ -54,6 +54,37 @@ def primitives(shape):
     return [(RECT, row)]
 
 
+# What packing one primitive holds at most, in bytes: its rows in obj_i and obj_f
+# (2 + OBJ_FLOATS values), BVH nodes (up to two per object: 6 + 3 values) and its
+# index, six light rows (a box light: 2 + 4 values) and light_pick, and the
+# Python objects packing makes on the way (a row array and a tuple each).
+BYTES_PER_OBJECT = 8 * (OBJ_INTS + OBJ_FLOATS + 2 * 9 + 1 + 6 * 6 + 1) + 400
+
+
+def scene_bytes(scene):
+    """About the most memory packing `scene` holds (pack_scene), from its
+    description alone, so that it can be checked before anything is packed
+    (memory.py): its primitives, their BVH and light rows, and the textures'
+    tables (image texels, Perlin noise)."""
+    total = BYTES_PER_OBJECT * len(scene.objects)
+    seen = set()
+    for shape in scene.objects:
+        texture = shape.material.texture
+        stack = [texture] if texture is not None else []
+        while stack:
+            t = stack.pop()
+            if id(t) in seen:
+                continue
+            seen.add(id(t))
+            total += 64
+            if t.pixels is not None:
+                total += 24 * t.pixels.size // 3
+            if t.kind == "noise":
+                total += 256 * 3 * 8 + 3 * 256 * 8
+            stack.extend(c for c in (t.even, t.odd) if isinstance(c, type(t)))
+    return total
+
+
 def pack_background(value):
     """(kind, rgb array) for a validated background: an RGB triple or "sky"."""
     if isinstance(value, str) and value == SKY:

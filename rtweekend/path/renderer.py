@@ -26,7 +26,7 @@ from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
 from .integrators import ESTIMATORS
 from .layout import BG_COLOR, Features, PathParams, SceneArrays
-from .pack import dark_sides, pack_features, pack_scene
+from .pack import dark_sides, pack_features, pack_scene, scene_bytes
 
 
 class Frame(NamedTuple):
@@ -140,6 +140,18 @@ def block_film(frame, s0, s1):
     return film
 
 
+def _check_memory(scene, options):
+    """Before the scene is packed or the film allocated: beyond the memory, one
+    line, nothing done (memory.py)."""
+    scene.check()
+    camera = scene.resolved_camera()
+    width, height = options.width or camera.width, options.height or camera.height
+    estimator = ESTIMATORS[options.strategy.estimator]
+    scene_part = scene_bytes(scene)
+    memory.check(films.render_bytes(height, width, estimator.SPLATS, bool(options.aov))
+                 + scene_part, width, height, scene=scene_part, objects=len(scene.objects))
+
+
 class Renderer:
     """One image being rendered: the frozen scene and the running film.
 
@@ -153,11 +165,9 @@ class Renderer:
         elif fields:
             raise TypeError("Renderer: give options or fields, not both")
         self.options = options
+        _check_memory(scene, options)
         self.frame = freeze(scene, options)
         self.width, self.height = self.frame.width, self.frame.height
-        # Before the film is allocated: beyond the memory, one line, nothing done.
-        memory.check(films.render_bytes(self.height, self.width, splats(self.frame),
-                                        self.frame.aov), self.width, self.height)
         self.film = films.new_film(self.height, self.width, splats(self.frame), self.frame.aov)
         self.spp = 0               # samples per pixel so far, in every pixel
         self.band = 0              # a pass over part of the rows in progress: its spp
