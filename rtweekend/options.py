@@ -58,6 +58,10 @@ SAMPLINGS = {
     "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True, facing=True),
     # Light tracing (pbrt's lightpath): caustics on smooth surfaces, no glass seen.
     "lightpath": Sampling(0.0, estimator="light"),
+    # Bidirectional path tracing (pbrt's bdpt): every way of joining a camera
+    # subpath to a light subpath, weighted by MIS.
+    "bdpt": Sampling(0.0, estimator="bdpt"),
+    "bdpt+sobol": Sampling(0.0, sobol=True, estimator="bdpt"),
 }
 # The default: the strategy with the lowest error at equal time on the bundled
 # scenes (benchmarks/accuracy.py; README, Accuracy).  "mixture" is the books'.
@@ -135,7 +139,7 @@ class RenderOptions:
                 hint = f" (did you mean '{close[0]}'?)" if close else ""
                 raise SceneError(f"render: aov: unknown feature '{a}'{hint}; expected "
                                  f"{', '.join(AOVS)}")
-        if aov and self.strategy.estimator != "path":
+        if aov and self.strategy.estimator == "light":
             raise SceneError(f"render: aov: {self.sampling} traces no paths from the camera, "
                              "so it has no feature images; use a path-tracing sampling")
         object.__setattr__(self, "aov", tuple(dict.fromkeys(aov)) or None)

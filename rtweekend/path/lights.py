@@ -129,3 +129,15 @@ def background(scene, d):
         return (1.0 - 0.5 * a, 1.0 - 0.3 * a, 1.0)
     bg = scene.bg
     return (bg[0], bg[1], bg[2])
+
+
+@jit_step
+def origin_density(scene, k):
+    """The area density of a point of emitter k as `pick` and `sample_point`
+    draw it among all the emitters: P(row) / area(row), the same for every
+    row of one object (its rows' shares are in proportion to their areas)."""
+    rows, light_f = scene.light_rows, scene.light_f
+    for row in range(rows.shape[0]):
+        if rows[row, LIGHT_OBJ] == k:
+            return light_f[row, LIGHT_PROB] / light_f[row, LIGHT_AREA]
+    return 0.0

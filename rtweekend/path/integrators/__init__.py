@@ -13,6 +13,6 @@ the estimator (path/renderer.py) and carries the feature record
 renderer.render_samples, because Numba prunes `is None` tests only on
 arguments.
 """
-from . import light, path
+from . import bdpt, light, path
 
-ESTIMATORS = {"path": path, "light": light}
+ESTIMATORS = {"path": path, "light": light, "bdpt": bdpt}

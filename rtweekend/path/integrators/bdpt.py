@@ -1,0 +1,279 @@
+"""Bidirectional path tracing (Veach's thesis ch. 10; pbrt-v4's BDPTIntegrator):
+per sample, a camera subpath and a light subpath (subpaths.py), and every way
+of joining them, each weighted by multiple importance sampling (mis.py).
+
+A strategy (s, t) takes s vertices of the light subpath and t of the camera
+subpath and joins their ends (at most max_depth segments in all):
+
+  s = 0      the camera subpath reached an emitter: its radiance (the path
+             tracer's own estimate)
+  s = 1      next-event estimation: a point drawn anew on an emitter, joined
+             to camera vertex t - 1 by a shadow ray
+  t = 1      light tracing: light vertex s - 1 joined to a point of the lens
+             and splatted into the pixel it lands in (film.add_splat)
+  s, t >= 2  light vertex s - 1 joined to camera vertex t - 1:
+             beta_l f_l G f_c beta_c, G = |cos_l cos_c| / distance^2
+
+Only smooth vertices are joined (vertices.connectible): metal (the books' fuzz
+has no density) and glass are followed by both subpaths and never joined, so
+light that reaches the camera through them alone -- a caustic seen in a
+mirror -- comes from the strategies that sample through them.  Connections
+through media carry their transmittance.  A ray that leaves the scene takes
+the background's radiance with weight 1: no light subpath starts there.
+
+The camera's part of each sample goes to its own pixel (film.add_sample) and
+light tracing's to any pixel, atomically and exactly (film.py), so the image
+is the same for any thread count, pass split or cluster.
+"""
+import math
+
+import numpy as np
+
+from ...kernel import sampler
+from ...kernel.jit import jit_kernel, jit_step
+from ...kernel.vec3 import add, dot, madd, mul, neg, scale
+from .. import camera, lights, media as volumes, shapes
+from .. import film as films
+from ..bvh import closest_hit
+from ..film import SEGMENTS
+from ..layout import DIFFUSE_LIGHT, NO_HIT
+from ..lights import background
+from . import mis
+from .subpaths import camera_subpath, light_point, light_subpath
+from .vertices import (BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, OBJ, P, SURFACE,
+                       TYPE, area_density, col, connectible, direction_pdf, on_surface,
+                       scatter, to_area, toward)
+
+SPLATS = True           # light tracing's strategies splat (film.py)
+ZERO = (0.0, 0.0, 0.0)
+INV_PI = 1.0 / math.pi
+# A connection's far end may be found by the search a rounding short of it.
+REACHED = 1.0 - 1e-9
+
+
+@jit_step
+def nonzero(c):
+    return c[0] > 0.0 or c[1] > 0.0 or c[2] > 0.0
+
+
+@jit_step
+def clear(scene, p, obj, n, w, dist, target, media, time):
+    """The fraction of light that crosses from p (on object obj, normal n;
+    NO_HIT in a medium) along w to the point at `dist` on object `target`:
+    0 if anything else is in between, else the media's transmittance."""
+    inside = np.bool_(False)
+    if obj != NO_HIT:
+        inside = shapes.enters(scene, obj, n, w)
+    k, t = closest_hit(scene, p, w, dist, obj, inside, time)
+    if k != NO_HIT and not (k == target and t >= dist * REACHED):
+        return 0.0
+    if media is not None:
+        return volumes.transmittance(scene, media, p, w, dist, time)
+    return 1.0
+
+
+@jit_step
+def emitted(scene, cf, ci, t):
+    """s = 0: (radiance, MIS weight) of camera vertex t - 1, an emitter,
+    towards vertex t - 2 (its front side only)."""
+    pt = t - 1
+    p = col(cf, pt, P)
+    wo, _ = toward(p, col(cf, pt - 1, P))
+    c = dot(wo, col(cf, pt, NG))
+    if c <= 0.0:
+        return ZERO, 0.0
+    if t == 2:
+        return col(cf, pt, COLOR), 1.0
+    pt_rev = lights.origin_density(scene, ci[pt, OBJ])
+    ptm_rev = to_area(c * INV_PI, p, col(cf, pt - 1, P), col(cf, pt - 1, NG),
+                      on_surface(ci, pt - 1))
+    return col(cf, pt, COLOR), mis.weight(cf, ci, cf, ci, 0, t, pt_rev, ptm_rev, 0.0, 0.0, 0.0)
+
+
+@jit_step
+def next_event(scene, params, cf, ci, lf, li, t, textures, media, time, smp):
+    """s = 1: (light, rays traced, smp) of a point drawn on an emitter and
+    joined to camera vertex t - 1."""
+    k, q, nq, emit, origin, smp = light_point(scene, textures, time, smp)
+    pt = t - 1
+    p = col(cf, pt, P)
+    w, dist = toward(p, q)
+    cos_q = -dot(w, nq)
+    if cos_q <= 0.0:
+        return ZERO, 0, smp                     # the emitter's back: it sends nothing
+    wo, _ = toward(p, col(cf, pt - 1, P))
+    f = scatter(cf, ci, pt, wo, w)
+    if not nonzero(f):
+        return ZERO, 0, smp
+    tr = clear(scene, p, ci[pt, OBJ], col(cf, pt, NG), w, dist, k, media, time)
+    if tr == 0.0:
+        return ZERO, 1, smp
+    cam = params.cam
+    pt_rev = to_area(cos_q * INV_PI, q, p, col(cf, pt, NG), on_surface(ci, pt))
+    qs_rev = to_area(direction_pdf(cam, cf, ci, pt, wo, w), p, q, nq, True)
+    ptm_rev = area_density(cam, cf, ci, pt, w, wo, cf, ci, pt - 1)
+    c = tr * cos_q / (dist * dist * origin) * mis.weight(cf, ci, lf, li, 1, t, pt_rev,
+                                                         ptm_rev, origin, qs_rev, 0.0)
+    return scale(mul(mul(col(cf, pt, BETA), f), emit), c), 1, smp
+
+
+@jit_step
+def join(scene, params, cf, ci, lf, li, s, t, media, time):
+    """s, t >= 2: (light, rays traced) of light vertex s - 1 joined to camera
+    vertex t - 1."""
+    pt, qs = t - 1, s - 1
+    if not connectible(li, qs):
+        return ZERO, 0
+    p, q = col(cf, pt, P), col(lf, qs, P)
+    w, dist = toward(p, q)
+    back = neg(w)
+    wo_t, _ = toward(p, col(cf, pt - 1, P))
+    wo_s, _ = toward(q, col(lf, qs - 1, P))
+    f_s = scatter(lf, li, qs, wo_s, back)
+    if not nonzero(f_s):
+        return ZERO, 0
+    f_t = scatter(cf, ci, pt, wo_t, w)
+    if not nonzero(f_t):
+        return ZERO, 0
+    tr = clear(scene, p, ci[pt, OBJ], col(cf, pt, NG), w, dist, li[qs, OBJ], media, time)
+    if tr == 0.0:
+        return ZERO, 1
+    cam = params.cam
+    pt_rev = area_density(cam, lf, li, qs, wo_s, back, cf, ci, pt)
+    ptm_rev = area_density(cam, cf, ci, pt, w, wo_t, cf, ci, pt - 1)
+    qs_rev = area_density(cam, cf, ci, pt, wo_t, w, lf, li, qs)
+    qsm_rev = area_density(cam, lf, li, qs, back, wo_s, lf, li, qs - 1)
+    c = tr / (dist * dist) * mis.weight(cf, ci, lf, li, s, t, pt_rev, ptm_rev, lf[qs, FWD],
+                                        qs_rev, qsm_rev)
+    return scale(mul(mul(col(cf, pt, BETA), f_t), mul(f_s, col(lf, qs, BETA))), c), 1
+
+
+@jit_step
+def to_camera(scene, params, film, cf, ci, lf, li, s, source, media, time, smp):
+    """t = 1: light vertex s - 1 joined to a point of the lens and splatted
+    where it lands.  Returns (rays traced, smp)."""
+    qs = s - 1
+    if not connectible(li, qs):
+        return 0, smp
+    q = col(lf, qs, P)
+    u1, u2, smp = sampler.next_2d(smp)
+    cam = params.cam
+    wi, dist, pdf, we, x, y, on_film = camera.sample_lens(cam, params.width, params.height, q,
+                                                          u1, u2)
+    if not on_film or pdf <= 0.0:
+        return 0, smp
+    wo_s, _ = toward(q, col(lf, qs - 1, P))
+    f = scatter(lf, li, qs, wo_s, wi)
+    if not nonzero(f):
+        return 0, smp
+    tr = clear(scene, q, li[qs, OBJ], col(lf, qs, NG), wi, dist, np.int64(NO_HIT), media, time)
+    if tr == 0.0:
+        return 1, smp
+    qs_rev = to_area(camera.pdf_direction(cam, neg(wi)), madd(q, wi, dist), q,
+                     col(lf, qs, NG), on_surface(li, qs))
+    qsm_rev = area_density(cam, lf, li, qs, wi, wo_s, lf, li, qs - 1)
+    c = we / pdf * tr * mis.weight(cf, ci, lf, li, s, 1, 0.0, 0.0, lf[qs, FWD], qs_rev, qsm_rev)
+    films.add_splat(film, min(int(x), params.width - 1), min(int(y), params.height - 1),
+                    scale(mul(col(lf, qs, BETA), f), c), params.clamp, source)
+    return 1, smp
+
+
+@jit_step
+def first_seen(scene, cf, ci, n, escaped, d, beta):
+    """The feature images' (albedo, normal) of the first camera vertex that is no
+    mirror or glass (as the path tracer's): beta x its albedo (a light's
+    radiance capped at 1, 0 from its back), the normal facing the ray."""
+    for i in range(1, n):
+        if ci[i, DELTA] == 0:
+            towards, _ = toward(col(cf, i, P), col(cf, i - 1, P))
+            c = col(cf, i, COLOR)
+            if ci[i, TYPE] == MEDIUM:
+                return mul(col(cf, i, BETA), c), towards
+            normal = col(cf, i, NG)
+            facing = dot(normal, towards) > 0.0
+            if not facing:
+                normal = neg(normal)
+            if ci[i, MKIND] == DIFFUSE_LIGHT:
+                c = (min(c[0], 1.0), min(c[1], 1.0), min(c[2], 1.0)) if facing else ZERO
+            return mul(col(cf, i, BETA), c), normal
+    if escaped:
+        e = background(scene, d)
+        return mul(beta, (min(e[0], 1.0), min(e[1], 1.0), min(e[2], 1.0))), ZERO
+    return ZERO, ZERO
+
+
+@jit_step
+def camera_strategies(scene, params, cf, ci, lf, li, nc, nl, textures, media, time, smp):
+    """Every strategy with t >= 2: (radiance for the pixel, what its camera ray
+    saw emitted, rays traced, smp)."""
+    radiance, seen, rays = ZERO, ZERO, 0
+    has_lights = scene.light_f.shape[0] > 0
+    for t in range(2, nc + 1):
+        pt = t - 1
+        if ci[pt, TYPE] == SURFACE and ci[pt, MKIND] == DIFFUSE_LIGHT:
+            e, w = emitted(scene, cf, ci, t)
+            radiance = add(radiance, scale(mul(col(cf, pt, BETA), e), w))
+            if t == 2:
+                seen = e
+            continue
+        if not connectible(ci, pt):
+            continue
+        if has_lights and t <= params.max_depth:
+            light, n, smp = next_event(scene, params, cf, ci, lf, li, t, textures, media, time,
+                                       smp)
+            radiance, rays = add(radiance, light), rays + n
+        for s in range(2, min(nl, params.max_depth + 1 - t) + 1):
+            light, n = join(scene, params, cf, ci, lf, li, s, t, media, time)
+            radiance, rays = add(radiance, light), rays + n
+    return radiance, seen, rays, smp
+
+
+@jit_step
+def render_row(y, film, scene, params, s0, s1, textures, media, motion, cf, ci, lf, li):
+    """Samples s0..s1-1 of every pixel of row y: the camera's part to the pixel,
+    light tracing's splatted."""
+    segments = 0
+    width = params.width
+    want = film.albedo.shape[0] > 0        # feature images: a run-time test, no variant
+    has_lights = scene.light_f.shape[0] > 0
+    for x in range(width):
+        pixel = y * width + x
+        for s in range(s0, s1):
+            smp = sampler.start(pixel, s, params.seed, params.pairs)
+            if motion is not None:
+                time, smp = sampler.uniform(smp)    # one time for both subpaths
+            else:
+                time = None
+            nc, escaped, d, beta, n, smp = camera_subpath(scene, params, cf, ci, x, y,
+                                                          textures, media, time, smp)
+            segments += n
+            radiance = mul(beta, background(scene, d)) if escaped else ZERO
+            if want:
+                albedo, normal = first_seen(scene, cf, ci, nc, escaped, d, beta)
+                films.add_features(film, y, x, albedo, normal)
+            nl = 0
+            if has_lights:
+                nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)
+                segments += n
+            light, seen, n, smp = camera_strategies(scene, params, cf, ci, lf, li, nc, nl,
+                                                    textures, media, time, smp)
+            radiance, segments = add(radiance, light), segments + n
+            for sl in range(2, min(nl, params.max_depth) + 1):
+                n, smp = to_camera(scene, params, film, cf, ci, lf, li, sl, y, media, time,
+                                   smp)
+                segments += n
+            films.add_sample(film, y, x, s, radiance[0], radiance[1], radiance[2],
+                             params.clamp, seen[0], seen[1], seen[2])
+    film.row_stats[y, SEGMENTS] += segments
+
+
+@jit_kernel
+def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion):
+    """The samples s0..s1-1 of the pixels of `rows` (one thread's share of a
+    pass: kernel/rows.py), with one pair of subpath arrays for all of them."""
+    n = params.max_depth + 2
+    cf, ci = np.zeros((n, NF)), np.zeros((n, NI), dtype=np.int64)
+    lf, li = np.zeros((n, NF)), np.zeros((n, NI), dtype=np.int64)
+    for k in range(rows.shape[0]):
+        render_row(rows[k], film, scene, params, s0, s1, textures, media, motion, cf, ci, lf,
+                   li)

@@ -1,0 +1,168 @@
+"""The two subpaths of bidirectional path tracing: one from the camera, one
+from a light, each a random walk that records its vertices (vertices.py).
+
+Both walks bounce as the path tracer and the light tracer do -- a material's
+own sampling at a surface, the isotropic phase function in a medium, Russian
+roulette from ROULETTE_VERTICES on -- and record at each new vertex the area
+density it was drawn with (FWD) and, once the next direction is known, the
+density of drawing the previous vertex the other way (its REV: Veach's
+reverse pdf).  A delta material has neither: both are left 0 and the MIS
+weights skip them (bdpt.py).
+
+The camera subpath starts at the lens with the pixel's ray (throughput 1) and
+may hold max_depth + 1 vertices; the light subpath starts at a point of an
+emitter picked by power and drawn by area (lights.py), density FWD = P(row) /
+area, leaves it along the cosine lobe about its front with throughput
+Le pi / FWD, and may hold max_depth vertices, so that every strategy's path
+has at most max_depth segments.
+"""
+import math
+
+import numpy as np
+
+from ...kernel import sampler
+from ...kernel.jit import jit_step
+from ...kernel.vec3 import madd, mul, neg, scale
+from .. import camera, lights, materials, media as volumes, shapes
+from .. import textures as texturing
+from ..bvh import closest_hit
+from ..layout import DIFFUSE_LIGHT, ISOTROPIC, LIGHT_PROB, NO_HIT, OBJ_MAT
+from ..materials import isotropic, lambertian
+from ..roulette import roulette
+from ..surface import surface_at
+from .vertices import (CAMERA, LIGHT, MEDIUM, NG, P, REV, SURFACE, col, on_surface, put,
+                       to_area)
+
+INF = math.inf
+ONE = (1.0, 1.0, 1.0)
+ZERO = (0.0, 0.0, 0.0)
+ROULETTE_VERTICES = 3      # a subpath of this many vertices may end by roulette
+
+
+@jit_step
+def set_reverse(vf, vi, i, pdf, p):
+    """Vertex i's REV: its area density as drawn with solid-angle density pdf
+    from the point p that follows it."""
+    vf[i, REV] = to_area(pdf, p, col(vf, i, P), col(vf, i, NG), on_surface(vi, i))
+
+
+@jit_step
+def medium_color(scene, textures, medium, p, time):
+    m = scene.obj_i[medium, OBJ_MAT]
+    albedo = materials.color(scene, m)
+    if textures is not None:
+        albedo = texturing.color_at(scene, textures, m, NO_HIT, p, albedo, time)
+    return albedo
+
+
+@jit_step
+def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, start,
+         textures, media, time, smp):
+    """Extend the subpath whose last vertex is n - 1 (at o, leaving along d with
+    throughput beta, drawn with solid-angle density pdf_dir) up to `limit`
+    vertices.  Returns (vertices, escaped, d, beta, segments, smp): escaped, the
+    last ray left the scene along d with throughput beta."""
+    segments = 0
+    while n < limit:
+        k, t = closest_hit(scene, o, d, INF, from_obj, from_inside, time)
+        segments += 1
+        if media is not None:
+            medium, tm, smp = volumes.free_flight(scene, media, o, d, t, time, smp)
+            if medium != NO_HIT:            # scattered in a medium, at no surface
+                p = madd(o, d, tm)
+                albedo = medium_color(scene, textures, medium, p, time)
+                put(vf, vi, n, MEDIUM, p, ZERO, beta, albedo, 0.0, NO_HIT, ISOTROPIC, False,
+                    to_area(pdf_dir, o, p, ZERO, False))
+                n += 1
+                if n >= limit:
+                    break
+                d, state = isotropic.sample(smp.state)
+                smp = sampler.resume(smp, state)
+                pdf_dir = isotropic.pdf()
+                set_reverse(vf, vi, n - 2, pdf_dir, p)
+                beta = mul(beta, albedo)
+                o, from_obj, from_inside = p, np.int64(NO_HIT), np.bool_(False)
+                if n >= ROULETTE_VERTICES:
+                    alive, beta, smp = roulette(beta, start, smp)
+                    if not alive:
+                        break
+                continue
+        if k == NO_HIT:
+            return n, True, d, beta, segments, smp
+        hit = surface_at(scene, textures, k, o, d, t, time)
+        bsdf = materials.at(scene, hit)
+        put(vf, vi, n, SURFACE, hit.p, hit.n_out, beta, hit.albedo, bsdf.param, k, bsdf.kind,
+            materials.delta(bsdf), to_area(pdf_dir, o, hit.p, hit.n_out, True))
+        n += 1
+        if n >= limit or not materials.scatters(bsdf):
+            break
+        wo = neg(d)
+        d, weight, density, delta, smp = materials.sample(bsdf, wo, smp)
+        if density == 0.0:
+            break                               # absorbed
+        if delta:
+            pdf_dir = 0.0                       # no density: MIS skips the vertex
+        else:
+            pdf_dir = density
+            # The reverse density: wo drawn having come from d (the normal stays
+            # on the side of both: a smooth material only reflects).
+            set_reverse(vf, vi, n - 2, materials.pdf(bsdf, d, wo), hit.p)
+        beta = mul(beta, weight)
+        o, from_obj = hit.p, k
+        from_inside = shapes.enters(scene, k, hit.n_out, d)
+        if n >= ROULETTE_VERTICES:
+            alive, beta, smp = roulette(beta, start, smp)
+            if not alive:
+                break
+    return n, False, d, beta, segments, smp
+
+
+@jit_step
+def camera_subpath(scene, params, vf, vi, x, y, textures, media, time, smp):
+    """The camera subpath of a sample of pixel (x, y): (vertices, escaped, d,
+    beta, segments, smp) as walk returns them."""
+    o, d, smp = camera.sample_ray(params.cam, x, y, params.width, params.height, smp)
+    put(vf, vi, 0, CAMERA, o, ZERO, ONE, ZERO, 0.0, NO_HIT, 0, False, 1.0)
+    return walk(scene, vf, vi, 1, o, d, ONE, camera.pdf_direction(params.cam, d),
+                np.int64(NO_HIT), np.bool_(False), params.max_depth + 1, 1.0, textures, media,
+                time, smp)
+
+
+@jit_step
+def emitted_color(scene, textures, k, p, time):
+    """The radiance emitted at the point p of emitter k (textured or not)."""
+    m = scene.obj_i[k, OBJ_MAT]
+    emit = materials.color(scene, m)
+    if textures is not None:
+        emit = texturing.color_at(scene, textures, m, k, p, emit, time)
+    return emit
+
+
+@jit_step
+def light_point(scene, textures, time, smp):
+    """A point on an emitter: (object, point, normal, radiance, area density
+    over all emitters, smp)."""
+    u, smp = sampler.uniform(smp)
+    row = lights.pick(scene, u)
+    u1, u2, smp = sampler.next_2d(smp)
+    k, p, n, pdf_area = lights.sample_point(scene, row, u1, u2, time)
+    return k, p, n, emitted_color(scene, textures, k, p, time), \
+        pdf_area * scene.light_f[row, LIGHT_PROB], smp
+
+
+@jit_step
+def light_subpath(scene, params, vf, vi, textures, media, time, smp):
+    """The light subpath of a sample: (vertices, segments, smp)."""
+    k, p, n, emit, origin, smp = light_point(scene, textures, time, smp)
+    put(vf, vi, 0, LIGHT, p, n, scale(emit, 1.0 / origin), emit, 0.0, k, DIFFUSE_LIGHT, False,
+        origin)
+    u1, u2, smp = sampler.next_2d(smp)
+    d = lambertian.cosine_at(n, u1, u2)       # density cos / pi: Le cos / pdf = Le pi
+    beta = scale(emit, math.pi / origin)
+    start = max(beta[0], beta[1], beta[2])
+    if not start > 0.0 or params.max_depth < 2:
+        return 1, 0, smp
+    vertices, _, _, _, segments, smp = walk(
+        scene, vf, vi, 1, p, d, beta, lambertian.pdf(n, d), k, shapes.enters(scene, k, n, d),
+        params.max_depth, start, textures, media, time, smp)
+    return vertices, segments, smp

@@ -1,0 +1,153 @@
+"""The vertices of bidirectional path tracing's two subpaths (Veach's thesis
+ch. 10; pbrt-v4's Vertex), kept in two arrays per subpath so that a strategy
+can join any camera vertex to any light vertex.
+
+Row i of `vf` (floats) and `vi` (integers) is vertex i:
+
+  P      the point                       TYPE   CAMERA, LIGHT, SURFACE, MEDIUM
+  NG     the outward geometric normal    OBJ    its object (NO_HIT: camera, medium)
+         (0 for the camera and media)    MKIND  its material's kind (layout.py)
+  BETA   the subpath's throughput up     DELTA  1: a delta material (metal, glass):
+         to it (as pbrt's beta)                 sampled, never connected
+  COLOR  its albedo there (a light's emitted radiance)
+  PARAM  the material's parameter
+  FWD    the area density of this vertex as its own subpath drew it
+  REV    the area density of it drawn the other way, from the next vertex (MIS)
+
+A vertex answers, for a pair of directions leaving it (wo towards where its
+light goes or comes from, wi the other): `scatter` = f(wo, wi) |cos theta_i|
+(the phase function at a medium, the emitted radiance times its cosine at a
+light) and `direction_pdf` = the solid-angle density of wi.  `to_area` turns
+a solid-angle density at one vertex into the area density of the next: times
+|cos| at the next if it lies on a surface, over the distance squared.  The
+material at a surface vertex is rebuilt from its row with its normal turned to
+wo's side, which is how the books make every material two-sided.
+"""
+import math
+
+from ...kernel.jit import jit_step
+from ...kernel.vec3 import dot
+from .. import camera, materials
+from ..layout import DIFFUSE_LIGHT
+from ..materials import Bsdf, isotropic
+
+# Columns of vf.
+P, NG, BETA, COLOR, PARAM, FWD, REV = 0, 3, 6, 9, 12, 13, 14
+NF = 15
+# Columns of vi.
+TYPE, OBJ, MKIND, DELTA = 0, 1, 2, 3
+NI = 4
+# Vertex types.
+CAMERA, LIGHT, SURFACE, MEDIUM = 0, 1, 2, 3
+INV_PI = 1.0 / math.pi
+ZERO = (0.0, 0.0, 0.0)
+
+
+@jit_step
+def put(vf, vi, i, kind, p, n, beta, color, param, obj, mkind, delta, fwd):
+    """Write vertex i (its REV is set later, when the next vertex is drawn)."""
+    for c in range(3):
+        vf[i, P + c] = p[c]
+        vf[i, NG + c] = n[c]
+        vf[i, BETA + c] = beta[c]
+        vf[i, COLOR + c] = color[c]
+    vf[i, PARAM] = param
+    vf[i, FWD] = fwd
+    vf[i, REV] = 0.0
+    vi[i, TYPE] = kind
+    vi[i, OBJ] = obj
+    vi[i, MKIND] = mkind
+    vi[i, DELTA] = 1 if delta else 0
+
+
+@jit_step
+def col(vf, i, c):
+    return (vf[i, c], vf[i, c + 1], vf[i, c + 2])
+
+
+@jit_step
+def on_surface(vi, i):
+    """Does vertex i lie on a surface (its area density has a cosine)?"""
+    return vi[i, TYPE] == SURFACE or vi[i, TYPE] == LIGHT
+
+
+@jit_step
+def connectible(vi, i):
+    """Can a strategy join a path to vertex i?  Not at a delta material, nor
+    at a surface that only emits (it scatters nothing)."""
+    if vi[i, TYPE] != SURFACE:
+        return True
+    return vi[i, DELTA] == 0 and vi[i, MKIND] != DIFFUSE_LIGHT
+
+
+@jit_step
+def toward(a, b):
+    """(unit direction from a to b, distance)."""
+    d = (b[0] - a[0], b[1] - a[1], b[2] - a[2])
+    dist = math.sqrt(dot(d, d))
+    return (d[0] / dist, d[1] / dist, d[2] / dist), dist
+
+
+@jit_step
+def bsdf_facing(vf, vi, i, wo):
+    """The material at surface vertex i, its normal on wo's side."""
+    n = col(vf, i, NG)
+    front = dot(wo, n) > 0.0
+    if not front:
+        n = (-n[0], -n[1], -n[2])
+    return Bsdf(vi[i, MKIND], col(vf, i, COLOR), vf[i, PARAM], n, front)
+
+
+@jit_step
+def scatter(vf, vi, i, wo, wi):
+    """f(wo, wi) |cos theta_i| at vertex i as an RGB: a surface's material, a
+    medium's phase function (no cosine), a light's radiance towards wi times
+    its cosine (front side only)."""
+    kind = vi[i, TYPE]
+    if kind == SURFACE:
+        att, f = materials.eval(bsdf_facing(vf, vi, i, wo), wo, wi, 1.0)
+        return (att[0] * f, att[1] * f, att[2] * f)
+    if kind == MEDIUM:
+        f = isotropic.pdf()
+        return (vf[i, COLOR] * f, vf[i, COLOR + 1] * f, vf[i, COLOR + 2] * f)
+    if kind == LIGHT:
+        c = dot(wi, col(vf, i, NG))
+        if c > 0.0:
+            return (vf[i, COLOR] * c, vf[i, COLOR + 1] * c, vf[i, COLOR + 2] * c)
+    return ZERO
+
+
+@jit_step
+def direction_pdf(cam, vf, vi, i, wo, wi):
+    """Solid-angle density of wi as vertex i draws its next direction (having
+    been reached from wo): the camera's ray directions, a light's cosine lobe
+    about its front, a material's sampling, the isotropic phase function."""
+    kind = vi[i, TYPE]
+    if kind == SURFACE:
+        return materials.pdf(bsdf_facing(vf, vi, i, wo), wo, wi)
+    if kind == MEDIUM:
+        return isotropic.pdf()
+    if kind == LIGHT:
+        c = dot(wi, col(vf, i, NG))
+        return c * INV_PI if c > 0.0 else 0.0
+    return camera.pdf_direction(cam, wi)
+
+
+@jit_step
+def to_area(pdf, p, q, n_q, surface):
+    """The area density at q of a direction drawn at p with solid-angle density
+    pdf: pdf |cos theta_q| / distance^2 (no cosine if q is in a medium or the
+    camera)."""
+    d = (q[0] - p[0], q[1] - p[1], q[2] - p[2])
+    dist2 = dot(d, d)
+    if surface:
+        return pdf * abs(dot(d, n_q)) / (dist2 * math.sqrt(dist2))
+    return pdf / dist2
+
+
+@jit_step
+def area_density(cam, vf, vi, i, wo, wi, tf, ti, j):
+    """to_area(direction_pdf(...)) for vertex j of (tf, ti) drawn from vertex i
+    of (vf, vi) along wi."""
+    return to_area(direction_pdf(cam, vf, vi, i, wo, wi), col(vf, i, P), col(tf, j, P),
+                   col(tf, j, NG), on_surface(ti, j))
