@@ -80,8 +80,9 @@ def build_parser():
     r.add_argument("--sampling", choices=tuple(SAMPLINGS),
                    help="diffuse sampling: the books' 0.5/0.5 mixture, cosine only, lights "
                    "only, or nee: next-event estimation (shadow rays, MIS) with Russian "
-                   "roulette; +sobol: low-discrepancy points for the pixel position and "
-                   "the first bounce (default: mixture+sobol)")
+                   "roulette; lightpath: light tracing; bdpt: bidirectional path tracing "
+                   "(caustics without fireflies); +sobol: low-discrepancy points for the "
+                   "pixel position and the first bounce (default: mixture+sobol)")
     r.add_argument("--clamp", type=_option("clamp", float), metavar="X", help="cap every sample's "
                    "channels at X: fewer fireflies, but BIASED (darker); off by default")
     cluster = r.add_mutually_exclusive_group()
