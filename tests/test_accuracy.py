@@ -13,7 +13,7 @@ import pytest
 
 import rtweekend as rt
 
-STRATEGIES = ["cosine", "light", "mixture", "nee", "mixture+sobol", "nee+sobol"]
+STRATEGIES = ["cosine", "light", "mixture", "nee", "mixture+sobol", "nee+sobol", "bdpt"]
 
 
 def assert_expected(image, stderr, exact, what):

@@ -58,11 +58,14 @@ def test_same_bits_as_a_local_render(cornell_box, client):
     assert far.stats.spp == 40 and not far.stats.interrupted and far.stats.threads == 2
 
 
-def test_light_carried_to_the_camera_is_the_same_bits_as_a_local_render(cornell_box, client):
-    # Light tracing splats into any pixel: the blocks' integer sums and their
-    # squares merged in order give the local image and standard error.
-    local = rt.render(cornell_box, spp=40, sampling="lightpath", **SMALL)
-    far = rt.render(cornell_box, spp=40, sampling="lightpath", client=client, **SMALL)
+@pytest.mark.parametrize("sampling", ["lightpath", "bdpt"])
+def test_light_carried_to_the_camera_is_the_same_bits_as_a_local_render(cornell_box, client,
+                                                                       sampling):
+    # Light tracing (and bdpt's t = 1) splats into any pixel: the blocks'
+    # integer sums and their squares merged in order give the local image and
+    # standard error.
+    local = rt.render(cornell_box, spp=40, sampling=sampling, **SMALL)
+    far = rt.render(cornell_box, spp=40, sampling=sampling, client=client, **SMALL)
     assert_same(far, local)
     assert local.image.mean() > 0.05
 

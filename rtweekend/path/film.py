@@ -58,7 +58,9 @@ class Film(NamedTuple):
     splat: np.ndarray      # int64 [H, W, 3]: the block in progress's splats ([0, 0, 3]: none)
     splat_total: np.ndarray  # int64 [H, W, 3]: whole blocks' splats
     block2: np.ndarray     # float64 [H, W, 3]: sum over whole blocks of (block value)^2
-    marked: np.ndarray     # float64 [H, W, 3]: accum when the last block was folded
+    marked: np.ndarray     # float64 [H, W, 3]: the camera samples' sum of the last whole
+    #                        block, kept apart for fold_splats (the difference of two
+    #                        running sums would round, and differ from a block's own)
     albedo: np.ndarray     # float64 [H, W, 3]: sum of the samples' albedo ([0, 0, 3]: none)
     normal: np.ndarray     # float64 [H, W, 3]: sum of their normals
 
@@ -144,11 +146,10 @@ def fold_splats(film):
     """At the end of a block of samples (every pixel has them): its splats join
     the total, and its value per pixel (camera samples' sum + splats) is squared
     into block2 for the standard error."""
-    block = (film.accum - film.marked) + film.splat / SPLAT_SCALE
+    block = film.marked + film.splat / SPLAT_SCALE
     film.block2[:] += block * block
     film.splat_total[:] += film.splat
     film.splat[:] = 0
-    film.marked[:] = film.accum
 
 
 @jit_step
@@ -174,7 +175,10 @@ def add_sample(film, y, x, s, lr, lg, lb, clamp, er, eg, eb):
     else:
         film.row_stats[y, DROPPED] += 1
     if (s + 1) % BLOCK_SPP == 0:
+        splatting = film.marked.shape[0] > 0
         for ch in range(3):
+            if splatting:
+                film.marked[y, x, ch] = film.partial[y, x, ch]
             film.accum[y, x, ch] += film.partial[y, x, ch]
             film.accum2[y, x, ch] += film.partial2[y, x, ch]
             film.partial[y, x, ch] = 0.0
@@ -209,7 +213,7 @@ def _with_splats(film, mean, spp):
     if blocks < 2:
         return mean.astype(np.float32), np.full(mean.shape, np.inf, dtype=np.float32)
     # The whole blocks' values B: their sum and the sum of their squares.
-    total = film.marked + film.splat_total / SPLAT_SCALE
+    total = film.accum + film.splat_total / SPLAT_SCALE
     var = (film.block2 - total * total / blocks) / (blocks - 1)     # of one block's value
     stderr = np.sqrt(np.maximum(var, 0.0) / blocks) / BLOCK_SPP
     return mean.astype(np.float32), stderr.astype(np.float32)
