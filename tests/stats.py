@@ -23,3 +23,16 @@ def assert_chi2(observed, expected, z=5.0):
     stat, dof = chi2_statistic(observed, expected)
     limit = chi2_quantile(dof, z)
     assert stat < limit, f"chi-square {stat:.1f} over {dof} dof exceeds {limit:.1f}"
+
+
+def blocks(x, n):
+    """Means over n x n pixel blocks of an H x W x 3 image (cropped to whole blocks)."""
+    h, w = (x.shape[0] // n) * n, (x.shape[1] // n) * n
+    return x[:h, :w].astype(np.float64).reshape(h // n, n, w // n, n, -1).mean(axis=(1, 3))
+
+
+def block_se(se, n):
+    """The standard errors of blocks(image, n) from the pixels' own (independent)."""
+    h, w = (se.shape[0] // n) * n, (se.shape[1] // n) * n
+    return np.sqrt((se[:h, :w].astype(np.float64) ** 2).reshape(h // n, n, w // n, n, -1)
+                   .sum(axis=(1, 3))) / (n * n)

@@ -12,26 +12,16 @@ import rtweekend as rt
 from rtweekend.path.integrators import mis
 from rtweekend.path.integrators.vertices import DELTA, FWD, NF, NI, REV
 from rtweekend.path.renderer import Renderer
+from stats import block_se, blocks
 
 SMALL = dict(width=24, height=20, seed=3, sampling="bdpt")
-
-
-def _blocks(x, n):
-    h, w = (x.shape[0] // n) * n, (x.shape[1] // n) * n
-    return x[:h, :w].astype(np.float64).reshape(h // n, n, w // n, n, -1).mean(axis=(1, 3))
-
-
-def _block_se(se, n):
-    h, w = (se.shape[0] // n) * n, (se.shape[1] // n) * n
-    return np.sqrt((se[:h, :w].astype(np.float64) ** 2).reshape(h // n, n, w // n, n, -1)
-                   .sum(axis=(1, 3))) / (n * n)
 
 
 def _z(a, a_se, b, b_se, n):
     """Block-mean differences over their standard errors (blocks with no
     noise on either side, black walls of the sky scenes, left out)."""
-    se = np.hypot(_block_se(a_se, n), _block_se(b_se, n))
-    d = _blocks(a, n) - _blocks(b, n)
+    se = np.hypot(block_se(a_se, n), block_se(b_se, n))
+    d = blocks(a, n) - blocks(b, n)
     keep = se > 0
     assert np.all(d[~keep] == 0)
     return d[keep] / se[keep]

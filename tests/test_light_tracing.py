@@ -15,20 +15,9 @@ from rtweekend.path.bvh import closest_hit
 from rtweekend.path.camera import get_ray_at
 from rtweekend.path.layout import LAMBERTIAN, NO_HIT, OBJ_MAT
 from rtweekend.path.renderer import Renderer
+from stats import block_se, blocks
 
 SMALL = dict(width=24, height=20, seed=3, sampling="lightpath")
-
-
-def _blocks(x, n):
-    """Means over n x n pixel blocks (the image cropped to whole blocks)."""
-    h, w = (x.shape[0] // n) * n, (x.shape[1] // n) * n
-    return x[:h, :w].astype(np.float64).reshape(h // n, n, w // n, n, -1).mean(axis=(1, 3))
-
-
-def _block_se(se, n):
-    h, w = (se.shape[0] // n) * n, (se.shape[1] // n) * n
-    return np.sqrt((se[:h, :w].astype(np.float64) ** 2).reshape(h // n, n, w // n, n, -1)
-                   .sum(axis=(1, 3))) / (n * n)
 
 
 def test_light_tracing_and_path_tracing_agree_on_cornell_box_block_by_block():
@@ -36,8 +25,8 @@ def test_light_tracing_and_path_tracing_agree_on_cornell_box_block_by_block():
     a = rt.render(scene, spp=64, width=80, height=80, sampling="lightpath", seed=7)
     b = rt.render(scene, spp=64, width=80, height=80, sampling="mixture", seed=8)
     assert a.stats.nan_dropped == 0 and np.isfinite(a.stderr).all()
-    z = (_blocks(a.image, 10) - _blocks(b.image, 10)) / np.hypot(_block_se(a.stderr, 10),
-                                                                 _block_se(b.stderr, 10))
+    z = (blocks(a.image, 10) - blocks(b.image, 10)) / np.hypot(block_se(a.stderr, 10),
+                                                                 block_se(b.stderr, 10))
     assert np.abs(z).max() < 5, f"worst block z = {np.abs(z).max():.2f}"
     assert abs(z.mean()) < 4 / math.sqrt(z.size)
 
@@ -72,9 +61,9 @@ def test_the_caustic_under_the_glass_ball_is_mitsubas(cornell_glass_reference):
     mask = _sees_only_lambertian(r.frame.scene, r.frame.params.cam, 150, 150)
     assert mask.mean() > 0.6
     n = 10
-    keep = _blocks(mask[..., None].astype(float), n)[..., 0] == 1.0
-    z = ((_blocks(result.image, n) - _blocks(reference, n))[keep] /
-         np.hypot(_block_se(result.stderr, n), _block_se(ref_se, n))[keep])
+    keep = blocks(mask[..., None].astype(float), n)[..., 0] == 1.0
+    z = ((blocks(result.image, n) - blocks(reference, n))[keep] /
+         np.hypot(block_se(result.stderr, n), block_se(ref_se, n))[keep])
     assert z.size > 100
     assert np.abs(z).max() < 5, f"worst block z = {np.abs(z).max():.2f}"
     assert abs(z.mean()) < 4 / math.sqrt(z.size)

@@ -26,8 +26,10 @@ import math
 
 import numpy as np
 
+from ..kernel import sampler
 from ..kernel.jit import jit_step
 from . import shapes
+from .surface import color_of
 from .layout import (BG_SKY, BOX, DIFFUSE_LIGHT, LIGHT_AREA, LIGHT_CDF, LIGHT_OBJ, LIGHT_PART,
                      LIGHT_POWER, LIGHT_PROB, MAT_COLOR, OBJ_KIND, OBJ_MAT, RECT, SPHERE)
 from .shapes import axis_rect, box, rect, sphere
@@ -141,3 +143,16 @@ def origin_density(scene, k):
         if rows[row, LIGHT_OBJ] == k:
             return light_f[row, LIGHT_PROB] / light_f[row, LIGHT_AREA]
     return 0.0
+
+
+@jit_step
+def light_point(scene, textures, time, smp):
+    """A point on an emitter as light paths start: the row picked by power, the
+    point by area.  Returns (object, point, outward normal, emitted radiance
+    there, area density over all the emitters, smp)."""
+    u, smp = sampler.uniform(smp)
+    row = pick(scene, u)
+    u1, u2, smp = sampler.next_2d(smp)
+    k, p, n, pdf_area = sample_point(scene, row, u1, u2, time)
+    return k, p, n, color_of(scene, textures, k, p, k, time), \
+        pdf_area * scene.light_f[row, LIGHT_PROB], smp

@@ -47,6 +47,18 @@ def face_normal(d, n_out):
 
 
 @jit_step
+def color_of(scene, textures, k, p, uv_from, time):
+    """The colour of object k's material at p (albedo, or emitted radiance),
+    from its texture if it has one; uv_from: the object whose uv a texture
+    reads (k on a surface, NO_HIT inside a medium)."""
+    m = scene.obj_i[k, OBJ_MAT]
+    color = materials.color(scene, m)
+    if textures is not None:
+        color = texturing.color_at(scene, textures, m, uv_from, p, color, time)
+    return color
+
+
+@jit_step
 def surface_at(scene, textures, k, o, d, t, time):
     """The record of the hit of the ray o + t d on object k."""
     p = madd(o, d, t)

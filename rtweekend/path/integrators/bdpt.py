@@ -39,7 +39,7 @@ from ..film import SEGMENTS
 from ..layout import DIFFUSE_LIGHT, NO_HIT
 from ..lights import background
 from . import mis
-from .subpaths import camera_subpath, light_point, light_subpath
+from .subpaths import camera_subpath, light_subpath
 from .vertices import (BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, OBJ, P, SURFACE,
                        TYPE, area_density, col, connectible, direction_pdf, on_surface,
                        scatter, to_area, toward)
@@ -94,7 +94,7 @@ def emitted(scene, cf, ci, t):
 def next_event(scene, params, cf, ci, lf, li, t, textures, media, time, smp):
     """s = 1: (light, rays traced, smp) of a point drawn on an emitter and
     joined to camera vertex t - 1."""
-    k, q, nq, emit, origin, smp = light_point(scene, textures, time, smp)
+    k, q, nq, emit, origin, smp = lights.light_point(scene, textures, time, smp)
     pt = t - 1
     p = col(cf, pt, P)
     w, dist = toward(p, q)

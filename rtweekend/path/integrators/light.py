@@ -33,13 +33,12 @@ from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import madd, mul, neg, scale
 from .. import camera, lights, materials, media as volumes, shapes
 from .. import film as films
-from .. import textures as texturing
 from ..bvh import closest_hit, unoccluded
 from ..film import SEGMENTS
-from ..layout import LIGHT_PROB, NO_HIT, OBJ_MAT
+from ..layout import NO_HIT
 from ..materials import isotropic, lambertian
 from ..roulette import roulette
-from ..surface import surface_at
+from ..surface import color_of, surface_at
 
 SPLATS = True           # its film has the splat arrays (film.py)
 ZERO = (0.0, 0.0, 0.0)
@@ -103,15 +102,8 @@ def start_on_a_light(scene, params, film, source, time, textures, media, smp):
     """A light path's first vertex: connected to the camera, then its first
     direction.  Returns (p, direction, emitter, from_inside, throughput, smp);
     throughput 0: no path."""
-    u, smp = sampler.uniform(smp)
-    row = lights.pick(scene, u)
-    u1, u2, smp = sampler.next_2d(smp)
-    k, p, n, pdf_area = lights.sample_point(scene, row, u1, u2, time)
-    m = scene.obj_i[k, OBJ_MAT]
-    emit = materials.color(scene, m)
-    if textures is not None:
-        emit = texturing.color_at(scene, textures, m, k, p, emit, time)
-    beta = scale(emit, 1.0 / (pdf_area * scene.light_f[row, LIGHT_PROB]))   # Le / p(point)
+    k, p, n, emit, origin, smp = lights.light_point(scene, textures, time, smp)
+    beta = scale(emit, 1.0 / origin)             # Le / p(point)
     # The light seen directly: the emitter's cosine towards the lens (its front only).
     wi, dist, c, x, y, on_film, smp = to_lens(params, p, smp)
     cosine = wi[0] * n[0] + wi[1] * n[1] + wi[2] * n[2]
@@ -138,10 +130,7 @@ def trace_light(scene, params, film, source, time, textures, media, smp):
             medium, tm, smp = volumes.free_flight(scene, media, o, d, t, time, smp)
             if medium != NO_HIT:
                 o = madd(o, d, tm)
-                m = scene.obj_i[medium, OBJ_MAT]
-                albedo = materials.color(scene, m)
-                if textures is not None:
-                    albedo = texturing.color_at(scene, textures, m, NO_HIT, o, albedo, time)
+                albedo = color_of(scene, textures, medium, o, np.int64(NO_HIT), time)
                 smp = connect_medium(scene, params, film, o, albedo, beta, source, time, media,
                                      smp)
                 d, state = isotropic.sample(smp.state)

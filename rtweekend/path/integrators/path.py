@@ -37,14 +37,13 @@ from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, madd, mul, neg, scale
 from .. import film as films
 from .. import materials, media as volumes, nee, pdf, shapes
-from .. import textures as texturing
 from ..bvh import closest_hit
 from ..camera import sample_ray
 from ..film import SEGMENTS
-from ..layout import NO_HIT, OBJ_MAT
+from ..layout import NO_HIT
 from ..roulette import roulette
 from ..lights import background
-from ..surface import surface_at
+from ..surface import color_of, surface_at
 
 INF = math.inf
 SPLATS = False          # its film has no splat arrays (film.py): samples only
@@ -94,10 +93,7 @@ def shadow_light(scene, media, shadow, k, time):
 def scatter_in_medium(scene, params, textures, medium, p, use_lights, time, smp):
     """(direction, weight, albedo, smp) at p, where the ray scattered inside
     `medium` (an object whose material is its phase function)."""
-    m = scene.obj_i[medium, OBJ_MAT]
-    albedo = materials.color(scene, m)
-    if textures is not None:
-        albedo = texturing.color_at(scene, textures, m, NO_HIT, p, albedo, time)
+    albedo = color_of(scene, textures, medium, p, np.int64(NO_HIT), time)
     d, w, smp = volumes.phase_scatter(
         scene, p, params.light_weight if use_lights else 0.0, use_lights, time, smp)
     return d, scale(albedo, w), albedo, smp

@@ -24,12 +24,11 @@ from ...kernel import sampler
 from ...kernel.jit import jit_step
 from ...kernel.vec3 import madd, mul, neg, scale
 from .. import camera, lights, materials, media as volumes, shapes
-from .. import textures as texturing
 from ..bvh import closest_hit
-from ..layout import DIFFUSE_LIGHT, ISOTROPIC, LIGHT_PROB, NO_HIT, OBJ_MAT
+from ..layout import DIFFUSE_LIGHT, ISOTROPIC, NO_HIT
 from ..materials import isotropic, lambertian
 from ..roulette import roulette
-from ..surface import surface_at
+from ..surface import color_of, surface_at
 from .vertices import (CAMERA, LIGHT, MEDIUM, NG, P, REV, SURFACE, col, on_surface, put,
                        to_area)
 
@@ -47,15 +46,6 @@ def set_reverse(vf, vi, i, pdf, p):
 
 
 @jit_step
-def medium_color(scene, textures, medium, p, time):
-    m = scene.obj_i[medium, OBJ_MAT]
-    albedo = materials.color(scene, m)
-    if textures is not None:
-        albedo = texturing.color_at(scene, textures, m, NO_HIT, p, albedo, time)
-    return albedo
-
-
-@jit_step
 def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, start,
          textures, media, time, smp):
     """Extend the subpath whose last vertex is n - 1 (at o, leaving along d with
@@ -70,7 +60,7 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
             medium, tm, smp = volumes.free_flight(scene, media, o, d, t, time, smp)
             if medium != NO_HIT:            # scattered in a medium, at no surface
                 p = madd(o, d, tm)
-                albedo = medium_color(scene, textures, medium, p, time)
+                albedo = color_of(scene, textures, medium, p, np.int64(NO_HIT), time)
                 put(vf, vi, n, MEDIUM, p, ZERO, beta, albedo, 0.0, NO_HIT, ISOTROPIC, False,
                     to_area(pdf_dir, o, p, ZERO, False))
                 n += 1
@@ -129,31 +119,9 @@ def camera_subpath(scene, params, vf, vi, x, y, textures, media, time, smp):
 
 
 @jit_step
-def emitted_color(scene, textures, k, p, time):
-    """The radiance emitted at the point p of emitter k (textured or not)."""
-    m = scene.obj_i[k, OBJ_MAT]
-    emit = materials.color(scene, m)
-    if textures is not None:
-        emit = texturing.color_at(scene, textures, m, k, p, emit, time)
-    return emit
-
-
-@jit_step
-def light_point(scene, textures, time, smp):
-    """A point on an emitter: (object, point, normal, radiance, area density
-    over all emitters, smp)."""
-    u, smp = sampler.uniform(smp)
-    row = lights.pick(scene, u)
-    u1, u2, smp = sampler.next_2d(smp)
-    k, p, n, pdf_area = lights.sample_point(scene, row, u1, u2, time)
-    return k, p, n, emitted_color(scene, textures, k, p, time), \
-        pdf_area * scene.light_f[row, LIGHT_PROB], smp
-
-
-@jit_step
 def light_subpath(scene, params, vf, vi, textures, media, time, smp):
     """The light subpath of a sample: (vertices, segments, smp)."""
-    k, p, n, emit, origin, smp = light_point(scene, textures, time, smp)
+    k, p, n, emit, origin, smp = lights.light_point(scene, textures, time, smp)
     put(vf, vi, 0, LIGHT, p, n, scale(emit, 1.0 / origin), emit, 0.0, k, DIFFUSE_LIGHT, False,
         origin)
     u1, u2, smp = sampler.next_2d(smp)
