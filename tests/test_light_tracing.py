@@ -31,6 +31,40 @@ def test_light_tracing_and_path_tracing_agree_on_cornell_box_block_by_block():
     assert abs(z.mean()) < 4 / math.sqrt(z.size)
 
 
+def _lamp_in_glass():
+    """A lamp sealed in a glass block over a floor: its light reaches the room
+    only by leaving glass, at every angle up to the critical one."""
+    s = rt.Scene(camera=rt.Camera(lookfrom=(0, 0.7, -4.5), lookat=(0, 0.25, 0), vup=(0, 1, 0),
+                                  vfov=40, width=24, height=16), background=(0, 0, 0))
+    s.add(rt.xz_rect(-4, 4, -4, 4, 0, rt.lambertian((0.7, 0.7, 0.7)), name="floor"))
+    s.add(rt.box((-1, 1, -1), (1, 1.4, 1), rt.dielectric(1.5), name="block"))
+    lamp = rt.xz_rect(-1, 1, -1, 1, 1.2, rt.diffuse_light((4, 4, 4)), name="lamp").flip_face()
+    s.add(lamp, light=True)
+    return s
+
+
+@pytest.mark.parametrize("sampling", ["lightpath", "bdpt"])
+def test_light_leaving_glass_is_what_the_camera_sees_through_it(sampling):
+    # Light followed from its source through a refraction carries the adjoint
+    # of the books' glass (materials.adjoint): (eta_from / eta_to)^2 -- 2.25
+    # out of glass, without which the floor is 0.44x as bright -- and the ratio
+    # of the two Schlick transmittances the books' rule gives the two ways
+    # (without it 3% too bright here, about 9 standard errors).
+    scene = _lamp_in_glass()
+    a = rt.render(scene, spp=1024, sampling=sampling, seed=1, threads=2)
+    b = rt.render(scene, spp=1024, sampling="mixture", seed=2, threads=2)
+    floor = slice(8, None)                  # the lower rows: the floor under the block
+
+    def mean_se(r):
+        im, se = r.image[floor].astype(float), r.stderr[floor].astype(float)
+        return im.mean(), math.sqrt((se ** 2).sum()) / im.size
+
+    (ma, sa), (mb, sb) = mean_se(a), mean_se(b)
+    assert 0.2 < mb < 0.4
+    assert abs(ma - mb) < 5 * math.hypot(sa, sb), f"{ma:.4f} vs {mb:.4f} (se {sa:.4f}, {sb:.4f})"
+    assert math.hypot(sa, sb) < 0.004 * mb   # fine enough to see the 3%
+
+
 @njit
 def _sees_only_lambertian(a, cam, width, height):
     """Pixels whose centre and four corners all see a lambertian first: where

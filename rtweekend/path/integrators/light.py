@@ -14,7 +14,8 @@ adds up every pixel's light from every thread's paths.
 The throughput of a light path starts at Le / p(point) x pi (the cosine draw
 cancels cos / pi) and is multiplied by each bounce's weight f |cos| / pdf, the
 cosine of the new direction: shading normals are the shapes' own here, so
-transport in this direction needs no correction.  A connection adds beta x
+transport in this direction needs no correction, except at a refraction,
+which is not symmetric (materials.adjoint).  A connection adds beta x
 f(wo, towards the lens) |cos| x W_e / p_lens, which film.py divides by spp.
 
 What it renders well: light reaching smooth surfaces through glass or off a
@@ -155,7 +156,7 @@ def trace_light(scene, params, film, source, time, textures, media, smp):
         d, weight, density, _, smp = materials.sample(bsdf, wo, smp)
         if density == 0.0:
             break
-        beta = mul(beta, weight)
+        beta = mul(beta, scale(weight, materials.adjoint(bsdf, wo, d)))
         o, from_obj = hit.p, np.int64(k)
         from_inside = shapes.enters(scene, k, hit.n_out, d)
         if depth >= ROULETTE_DEPTH:

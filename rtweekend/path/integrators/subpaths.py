@@ -14,7 +14,8 @@ may hold max_depth + 1 vertices; the light subpath starts at a point of an
 emitter picked by power and drawn by area (lights.py), density FWD = P(row) /
 area, leaves it along the cosine lobe about its front with throughput
 Le pi / FWD, and may hold max_depth vertices, so that every strategy's path
-has at most max_depth segments.
+has at most max_depth segments; its refractions carry the adjoint's weight
+(materials.adjoint).
 """
 import math
 
@@ -47,10 +48,11 @@ def set_reverse(vf, vi, i, pdf, p):
 
 @jit_step
 def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, start,
-         textures, media, time, smp):
+         adjoint, textures, media, time, smp):
     """Extend the subpath whose last vertex is n - 1 (at o, leaving along d with
     throughput beta, drawn with solid-angle density pdf_dir) up to `limit`
-    vertices.  Returns (vertices, escaped, d, beta, segments, smp): escaped, the
+    vertices; adjoint: it carries light (materials.adjoint).  Returns
+    (vertices, escaped, d, beta, segments, smp): escaped, the
     last ray left the scene along d with throughput beta."""
     segments = 0
     while n < limit:
@@ -97,6 +99,8 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
             # The reverse density: wo drawn having come from d (the normal stays
             # on the side of both: a smooth material only reflects).
             set_reverse(vf, vi, n - 2, materials.pdf(bsdf, d, wo), hit.p)
+        if adjoint:
+            weight = scale(weight, materials.adjoint(bsdf, wo, d))
         beta = mul(beta, weight)
         o, from_obj = hit.p, k
         from_inside = shapes.enters(scene, k, hit.n_out, d)
@@ -114,8 +118,8 @@ def camera_subpath(scene, params, vf, vi, x, y, textures, media, time, smp):
     o, d, smp = camera.sample_ray(params.cam, x, y, params.width, params.height, smp)
     put(vf, vi, 0, CAMERA, o, ZERO, ONE, ZERO, 0.0, NO_HIT, 0, False, 1.0)
     return walk(scene, vf, vi, 1, o, d, ONE, camera.pdf_direction(params.cam, d),
-                np.int64(NO_HIT), np.bool_(False), params.max_depth + 1, 1.0, textures, media,
-                time, smp)
+                np.int64(NO_HIT), np.bool_(False), params.max_depth + 1, 1.0, False, textures,
+                media, time, smp)
 
 
 @jit_step
@@ -132,5 +136,5 @@ def light_subpath(scene, params, vf, vi, textures, media, time, smp):
         return 1, 0, smp
     vertices, _, _, _, segments, smp = walk(
         scene, vf, vi, 1, p, d, beta, lambertian.pdf(n, d), k, shapes.enters(scene, k, n, d),
-        params.max_depth, start, textures, media, time, smp)
+        params.max_depth, start, True, textures, media, time, smp)
     return vertices, segments, smp

@@ -33,3 +33,22 @@ def scatter_at(d, n, front_face, ior, u):
     if ratio * sin_theta > 1.0 or schlick(cos_theta, ratio) > u:
         return reflect(d, n)
     return refract(d, n, ratio)
+
+
+@jit_step
+def adjoint_weight(cos_from, cos_to, front_face, ior):
+    """The weight of a refraction for light followed from its source, from the
+    side where the light meets the surface at cos_from to the other at cos_to.
+
+    The books' rule -- weight 1, Schlick's reflectance of the cosine the ray
+    arrives with -- is the camera's: a camera ray crossing the other way
+    transmits 1 - schlick(cos_to) of what it finds there.  Followed from the
+    light, the same paths need the adjoint (Veach's thesis, 5.2): that
+    transmittance over the probability 1 - schlick(cos_from) the light's draw
+    gave the refraction, times (eta_from / eta_to)^2, since refraction squeezes
+    radiance into a narrower cone (pbrt's non-symmetric scattering).  The
+    Schlick ratio is not 1: the books' rule is not reciprocal."""
+    ratio = 1.0 / ior if front_face else ior     # eta_from / eta_to
+    t_camera = 1.0 - schlick(min(cos_to, 1.0), 1.0 / ratio)
+    t_drawn = 1.0 - schlick(min(cos_from, 1.0), ratio)
+    return ratio * ratio * t_camera / t_drawn
