@@ -99,6 +99,10 @@ class PathParams(NamedTuple):
     light_weight: float    # the mixture's share of light sampling (pdf.py)
     clamp: float           # cap on each sample's channels; inf: none
     pairs: int             # Sobol pairs per sample (kernel/sampler.py); 0: the stream only
+    # bdpt's strategy (s, t) alone and unweighted, pbrt's per-strategy images
+    # (integrators/bdpt.py; set by tests); -1: all of them, weighted by MIS.
+    only_s: int = -1
+    only_t: int = -1
 
 
 class Features(NamedTuple):

@@ -21,6 +21,10 @@ mirror -- comes from the strategies that sample through them.  Connections
 through media carry their transmittance.  A ray that leaves the scene takes
 the background's radiance with weight 1: no light subpath starts there.
 
+With params.only_s/only_t set, one strategy is rendered alone with weight 1
+(pbrt's per-strategy images): what it adds is every path of s + t vertices it
+can draw, which the tests compare with the path tracer's.
+
 The camera's part of each sample goes to its own pixel (film.add_sample) and
 light tracing's to any pixel, atomically and exactly (film.py), so the image
 is the same for any thread count, pass split or cluster.
@@ -73,7 +77,14 @@ def clear(scene, p, obj, n, w, dist, target, media, time):
 
 
 @jit_step
-def emitted(scene, cf, ci, t):
+def alone(params, s, t):
+    """The weight of strategy (s, t) when one is rendered alone: 1 for it, 0 for
+    the others (params.only_s >= 0; else MIS weighs them all)."""
+    return 1.0 if s == params.only_s and t == params.only_t else 0.0
+
+
+@jit_step
+def emitted(scene, params, cf, ci, t):
     """s = 0: (radiance, MIS weight) of camera vertex t - 1, an emitter,
     towards vertex t - 2 (its front side only)."""
     pt = t - 1
@@ -82,6 +93,8 @@ def emitted(scene, cf, ci, t):
     c = dot(wo, col(cf, pt, NG))
     if c <= 0.0:
         return ZERO, 0.0
+    if params.only_s >= 0:
+        return col(cf, pt, COLOR), alone(params, 0, t)
     if t == 2:
         return col(cf, pt, COLOR), 1.0
     pt_rev = lights.origin_density(scene, ci[pt, OBJ])
@@ -112,8 +125,11 @@ def next_event(scene, params, cf, ci, lf, li, t, textures, media, time, smp):
     pt_rev = to_area(cos_q * INV_PI, q, p, col(cf, pt, NG), on_surface(ci, pt))
     qs_rev = to_area(direction_pdf(cam, cf, ci, pt, wo, w), p, q, nq, True)
     ptm_rev = area_density(cam, cf, ci, pt, w, wo, cf, ci, pt - 1)
-    c = tr * cos_q / (dist * dist * origin) * mis.weight(cf, ci, lf, li, 1, t, pt_rev,
-                                                         ptm_rev, origin, qs_rev, 0.0)
+    if params.only_s >= 0:
+        w = alone(params, 1, t)
+    else:
+        w = mis.weight(cf, ci, lf, li, 1, t, pt_rev, ptm_rev, origin, qs_rev, 0.0)
+    c = tr * cos_q / (dist * dist * origin) * w
     return scale(mul(mul(col(cf, pt, BETA), f), emit), c), 1, smp
 
 
@@ -143,8 +159,11 @@ def join(scene, params, cf, ci, lf, li, s, t, media, time):
     ptm_rev = area_density(cam, cf, ci, pt, w, wo_t, cf, ci, pt - 1)
     qs_rev = area_density(cam, cf, ci, pt, wo_t, w, lf, li, qs)
     qsm_rev = area_density(cam, lf, li, qs, back, wo_s, lf, li, qs - 1)
-    c = tr / (dist * dist) * mis.weight(cf, ci, lf, li, s, t, pt_rev, ptm_rev, lf[qs, FWD],
-                                        qs_rev, qsm_rev)
+    if params.only_s >= 0:
+        w = alone(params, s, t)
+    else:
+        w = mis.weight(cf, ci, lf, li, s, t, pt_rev, ptm_rev, lf[qs, FWD], qs_rev, qsm_rev)
+    c = tr / (dist * dist) * w
     return scale(mul(mul(col(cf, pt, BETA), f_t), mul(f_s, col(lf, qs, BETA))), c), 1
 
 
@@ -172,7 +191,11 @@ def to_camera(scene, params, film, cf, ci, lf, li, s, source, media, time, smp):
     qs_rev = to_area(camera.pdf_direction(cam, neg(wi)), madd(q, wi, dist), q,
                      col(lf, qs, NG), on_surface(li, qs))
     qsm_rev = area_density(cam, lf, li, qs, wi, wo_s, lf, li, qs - 1)
-    c = we / pdf * tr * mis.weight(cf, ci, lf, li, s, 1, 0.0, 0.0, lf[qs, FWD], qs_rev, qsm_rev)
+    if params.only_s >= 0:
+        w = alone(params, s, 1)
+    else:
+        w = mis.weight(cf, ci, lf, li, s, 1, 0.0, 0.0, lf[qs, FWD], qs_rev, qsm_rev)
+    c = we / pdf * tr * w
     films.add_splat(film, min(int(x), params.width - 1), min(int(y), params.height - 1),
                     scale(mul(col(lf, qs, BETA), f), c), params.clamp, source)
     return 1, smp
@@ -211,7 +234,7 @@ def camera_strategies(scene, params, cf, ci, lf, li, nc, nl, textures, media, ti
     for t in range(2, nc + 1):
         pt = t - 1
         if ci[pt, TYPE] == SURFACE and ci[pt, MKIND] == DIFFUSE_LIGHT:
-            e, w = emitted(scene, cf, ci, t)
+            e, w = emitted(scene, params, cf, ci, t)
             radiance = add(radiance, scale(mul(col(cf, pt, BETA), e), w))
             if t == 2:
                 seen = e
@@ -248,6 +271,8 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, cf, ci, 
                                                           textures, media, time, smp)
             segments += n
             radiance = mul(beta, background(scene, d)) if escaped else ZERO
+            if params.only_s >= 0:          # the sky: strategy (0, nc + 1) alone
+                radiance = scale(radiance, alone(params, 0, nc + 1))
             if want:
                 albedo, normal = first_seen(scene, cf, ci, nc, escaped, d, beta)
                 films.add_features(film, y, x, albedo, normal)
