@@ -3,10 +3,13 @@
     pip install '.[bench,peer]' && python benchmarks/accuracy.py
     python benchmarks/accuracy.py --peer-python /path/to/mitsuba-venv/bin/python
 
-For cornell_box (300x300) and cornell_glass (150x150), against independent
-references rendered by Mitsuba 3 (../shared/references beside the repository,
-or the folder RTWEEKEND_REFERENCES names; a scene whose reference is absent is
-skipped, in one line): one progressive render per strategy of
+For the books' cornell_box (300x300) and cornell_glass (150x150), and the
+scenes made to break one strategy each (caustic, glass_lamp, tiny_light,
+mirror_light, 100x100; --scenes picks some), against independent references
+rendered by Mitsuba 3 (the folder RTWEEKEND_REFERENCES names, else
+../shared/references beside the repository, else the copies in
+tests/data/reference; a scene whose reference is absent is skipped, in one
+line): one progressive render per strategy of
 rtweekend.options.SAMPLINGS, measured after every doubling of spp, and the peer,
 Mitsuba 3 (benchmarks/mitsuba_peer.py: its `path` integrator, next-event
 estimation with MIS) rendering the same scene on the same machine with the same
@@ -22,7 +25,8 @@ RMSE interpolated (log-log) at Mitsuba's times, and its ratio to Mitsuba's RMSE.
 
 Writes results/accuracy.json, results/accuracy.png (log-log error vs seconds,
 one line per strategy and Mitsuba) and results/accuracy_crops.png (equal-time
-crops).  --quick runs a tiny version (seconds) to check that the script works.
+crops).  --quick runs a tiny version (seconds, the books' two scenes unless
+--scenes says otherwise) to check that the script works.
 """
 import itertools
 import json
@@ -48,15 +52,22 @@ from common import parser as bench_parser  # noqa: E402
 
 KNOWN_COLORS = {"cosine": "tab:blue", "light": "tab:red", "mixture": "tab:green"}
 PEER_COLOR = "black"
-FULL = {
+BOOKS = {
     "cornell_box": dict(width=300, height=300, max_spp=1024, crop_seconds=6.0,
                         reference="cornell_box_300", reference_spp=8192),
     "cornell_glass": dict(width=150, height=150, max_spp=1024, crop_seconds=3.0,
                           reference="cornell_glass_150", reference_spp=16384),
 }
+# Where methods fail (README): each breaks one strategy.
+FAILURES = {name: dict(width=100, height=100, max_spp=1024, crop_seconds=2.0,
+                       reference=f"{name}_100", reference_spp=spp)
+            for name, spp in (("caustic", 206848), ("glass_lamp", 155648),
+                              ("tiny_light", 198656), ("mirror_light", 262144))}
+FULL = {**BOOKS, **FAILURES}
 QUICK = {name: dict(cfg, max_spp=4, crop_seconds=0.2) for name, cfg in FULL.items()}
 FIT_FROM_SPP = 8        # fit the slope where per-pass overheads no longer matter
 SEED = 2024             # the renders measured; references use other seeds
+NET_FLOOR = 0.1         # errors(): the net RMSE is at least this share of the raw one
 COVER_FACTOR = 4        # rtweekend may go up to 4x max_spp to reach Mitsuba's last time
 NO_PEER = "Mitsuba not installed: pip install '.[peer]'; charting rtweekend alone"
 
@@ -68,17 +79,25 @@ def colors():
     return {s: KNOWN_COLORS.get(s) or next(free) for s in SAMPLINGS}
 
 
-def errors(image, ref):
-    """(RMSE, relMSE, fraction of non-finite values); those count as 0."""
+def errors(image, ref, ref_var):
+    """(RMSE, raw RMSE, relMSE, fraction of non-finite values; those count as 0).
+
+    The raw RMSE is against the reference; the RMSE, with the reference's own
+    noise taken out: E[(image - ref)^2] = the image's MSE + the reference's
+    variance (ref_var, the mean of its squared standard errors), so the latter is
+    subtracted -- but never below NET_FLOOR of the raw value, where what is left
+    is lost in the reference's noise."""
     image = np.asarray(image, dtype=np.float64)
     bad = ~np.isfinite(image)
     diff = np.where(bad, 0.0, image) - ref
-    return (float(np.sqrt(np.mean(diff ** 2))),
+    mse = float(np.mean(diff ** 2))
+    net = math.sqrt(max(mse - ref_var, NET_FLOOR ** 2 * mse))
+    return (net, math.sqrt(mse),
             float(np.mean(diff ** 2 / (ref ** 2 + 0.01))),   # relMSE, as in the literature
             float(bad.mean()))
 
 
-def measure(scene, cfg, sampling, ref, threads, cover=0.0):
+def measure(scene, cfg, sampling, ref, ref_var, threads, cover=0.0):
     """One progressive render, measured at 1, 2, 4, ... max_spp spp, and further
     (up to COVER_FACTOR x max_spp) until its time reaches `cover` seconds."""
     warm = rt.Renderer(scene, seed=0, width=16, height=16, sampling=sampling, threads=threads)
@@ -92,8 +111,8 @@ def measure(scene, cfg, sampling, ref, threads, cover=0.0):
                                        and target <= COVER_FACTOR * cfg["max_spp"]):
         r.add_samples(target - r.spp)
         result = r.result()
-        rmse, relmse, _ = errors(result.image, ref)
-        rows.append(dict(spp=r.spp, seconds=r.seconds, rmse=rmse, relmse=relmse,
+        rmse, raw, relmse, _ = errors(result.image, ref, ref_var)
+        rows.append(dict(spp=r.spp, seconds=r.seconds, rmse=rmse, rmse_raw=raw, relmse=relmse,
                          nan_fraction=result.stats.nan_dropped / result.stats.samples))
         print(f"  {sampling:8s} {r.spp:5d} spp {r.seconds:8.2f} s  RMSE {rmse:.5f}  "
               f"relMSE {relmse:.3e}", flush=True)
@@ -167,7 +186,7 @@ def find_peer(args):
     return None
 
 
-def measure_peer(peer, name, scene, cfg, ref, threads):
+def measure_peer(peer, name, scene, cfg, ref, ref_var, threads):
     """The peer's rows, images and settings, or None (said why) when it has none."""
     points, info = peer.series(name, scene, cfg, cfg["max_spp"], threads)
     if points is None:
@@ -177,8 +196,9 @@ def measure_peer(peer, name, scene, cfg, ref, threads):
     for spp, seconds, image in points:
         if image.shape != ref.shape:
             raise ValueError(f"Mitsuba's image is {image.shape}, the reference {ref.shape}")
-        rmse, relmse, bad = errors(image, ref)
-        rows.append(dict(spp=spp, seconds=seconds, rmse=rmse, relmse=relmse, nan_fraction=bad))
+        rmse, raw, relmse, bad = errors(image, ref, ref_var)
+        rows.append(dict(spp=spp, seconds=seconds, rmse=rmse, rmse_raw=raw, relmse=relmse,
+                         nan_fraction=bad))
         images.append((image, spp, seconds))
         print(f"  {'Mitsuba':8s} {spp:5d} spp {seconds:8.2f} s  RMSE {rmse:.5f}  "
               f"relMSE {relmse:.3e}", flush=True)
@@ -265,10 +285,10 @@ def chart(data, path):
         ts = np.array([t0, guide[-1]["seconds"]])
         ax.loglog(ts, e0 * (ts / t0) ** -0.5, ":", color="gray", label="slope -1/2")
         ax.axhline(d["reference_noise_rms"], color="black", lw=0.8, ls="-.",
-                   label="reference's own noise")
+                   label="reference's own noise (taken out)")
         ax.set_title(f"{name} {d['width']}x{d['height']}\nvs {d['reference']}", fontsize=9)
         ax.set_xlabel(f"seconds ({data['threads']} threads)")
-        ax.set_ylabel("RMSE of linear radiance")
+        ax.set_ylabel("RMSE of linear radiance, the reference's noise out")
         ax.legend(fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
     fig.tight_layout()
@@ -316,8 +336,15 @@ def main(argv=None):
                         help="run Mitsuba with this interpreter (e.g. its own venv's python; "
                              "env RTWEEKEND_PEER_PYTHON)")
     parser.add_argument("--no-peer", action="store_true", help="leave Mitsuba out")
+    parser.add_argument("--scenes", help=f"comma-separated, of {', '.join(FULL)} "
+                        "(default: all; with --quick, the books' two)")
     args = parser.parse_args(argv)
     config = QUICK if args.quick else FULL
+    names = args.scenes.split(",") if args.scenes else list(BOOKS if args.quick else FULL)
+    unknown = [n for n in names if n not in FULL]
+    if unknown:
+        parser.error(f"--scenes: unknown {', '.join(unknown)} (known: {', '.join(FULL)})")
+    config = {n: config[n] for n in names}
     start = time.perf_counter()
     peer = find_peer(args)
     data = dict(machine=machine(), quick=args.quick, threads=args.threads,
@@ -329,22 +356,24 @@ def main(argv=None):
             print(f"{name}: no reference {cfg['reference']}.npy (+ _stderr.npy) in {REFERENCES} "
                   "(set RTWEEKEND_REFERENCES); skipped")
             continue
-        ref, ref_se = found
+        ref, ref_se, ref_file = found
+        ref_var = float(np.mean(ref_se ** 2))
         label = f"Mitsuba 3, {cfg['reference_spp']} spp (independent renderer)"
         scene = rt.load_scene(name)
         print(f"{name} {cfg['width']}x{cfg['height']} against {label}", flush=True)
         peer_data, peer_images = None, []
         if peer:
-            got = measure_peer(peer, name, scene, cfg, ref, args.threads)
+            got = measure_peer(peer, name, scene, cfg, ref, ref_var, args.threads)
             if got:
                 peer_data, peer_images = got
         cover = peer_data["rows"][-1]["seconds"] if peer_data else 0.0
-        measured = {s: measure(scene, cfg, s, ref, args.threads, cover) for s in SAMPLINGS}
+        measured = {s: measure(scene, cfg, s, ref, ref_var, args.threads, cover)
+                    for s in SAMPLINGS}
         curves = {s: rows for s, (rows, _) in measured.items()}
         data["scenes"][name] = dict(
             width=cfg["width"], height=cfg["height"], reference=label,
-            reference_file=str(REFERENCES / f"{cfg['reference']}.npy"),
-            reference_noise_rms=float(np.sqrt(np.mean(ref_se ** 2))),
+            reference_file=str(ref_file),
+            reference_noise_rms=math.sqrt(ref_var),
             curves=curves, compile_seconds={s: c for s, (_, c) in measured.items()},
             slopes={s: fitted_slope(rows) for s, rows in curves.items()},
             equal_time=equal_time(curves), peer=peer_data,

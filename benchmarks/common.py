@@ -14,10 +14,13 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 RESULTS = HERE / "results"
-# Independent references (Mitsuba 3): ../shared/references beside the repository,
-# or the folder RTWEEKEND_REFERENCES names.
+# Independent references (Mitsuba 3): the folder RTWEEKEND_REFERENCES names, or
+# else ../shared/references beside the repository and then the copies every
+# clone has in tests/data/reference (NAME.npz: radiance, stderr).
 REFERENCES = Path(os.environ.get("RTWEEKEND_REFERENCES") or
                   HERE.parents[1] / "shared" / "references")
+BUNDLED_REFERENCES = None if os.environ.get("RTWEEKEND_REFERENCES") else \
+    HERE.parent / "tests" / "data" / "reference"
 
 
 def machine():
@@ -48,12 +51,17 @@ def save_json(name, data, folder=RESULTS):
 
 
 def reference(name):
-    """(radiance, per-pixel stderr) of REFERENCES/name.npy and name_stderr.npy,
-    as float64, or None when either file is absent."""
+    """(radiance, per-pixel stderr, where) of REFERENCES/name.npy and
+    name_stderr.npy, else of the repository's tests/data/reference/name.npz, as
+    float64; None when neither is there."""
     paths = REFERENCES / f"{name}.npy", REFERENCES / f"{name}_stderr.npy"
-    if not all(p.is_file() for p in paths):
-        return None
-    return tuple(np.load(p).astype(np.float64) for p in paths)
+    if all(p.is_file() for p in paths):
+        return (*(np.load(p).astype(np.float64) for p in paths), paths[0])
+    bundled = BUNDLED_REFERENCES / f"{name}.npz" if BUNDLED_REFERENCES else None
+    if bundled is not None and bundled.is_file():
+        with np.load(bundled) as f:
+            return f["radiance"].astype(np.float64), f["stderr"].astype(np.float64), bundled
+    return None
 
 
 def parser(doc):

@@ -49,17 +49,16 @@ import argparse
 import json
 import os
 import sys
-import time
 from pathlib import Path
 from types import SimpleNamespace
 
-import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 os.environ.setdefault("DRJIT_LIBLLVM_PATH", "/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1")
 
 import mitsuba_peer as peer  # noqa: E402  (imports drjit and mitsuba)
+import mitsuba_reference as reference  # noqa: E402
 
 dr, mi = peer.dr, peer.mi
 
@@ -135,75 +134,19 @@ def scene_dict(width, height, spp, seed=0):
     return d
 
 
-def tonemap(image):
-    """The books' write_color: sqrt, clamp to [0, 0.999], x256 (as rtweekend.io.image)."""
-    c = np.sqrt(np.nan_to_num(np.maximum(image, 0.0), nan=0.0, posinf=1.0))
-    return (256.0 * np.clip(c, 0.0, 0.999)).astype(np.uint8)
-
-
-def write_png(path, image):
-    from PIL import Image
-    Image.fromarray(tonemap(image)).save(path)
-
-
 def render(width, height, spp, pass_spp=256, seed=0, threads=1, time_limit=None,
            out=None, settings=None, log=print):
-    """Render spp samples per pixel in passes; returns (mean, stderr, info).
-
-    mean: float32 H x W x 3; stderr: std over passes (ddof 1) / sqrt(passes), or
-    NaN with one pass.  With `out`, writes the four files after every pass."""
+    """Render spp samples per pixel in passes (mitsuba_reference.render_passes);
+    returns (mean, stderr, info)."""
     peer._setup(threads)
     if hasattr(mi, "set_log_level"):
         mi.set_log_level(mi.LogLevel.Warn)
     pass_spp = max(1, min(pass_spp, spp))
-    n_passes = -(-spp // pass_spp)
     mscene = mi.load_dict(scene_dict(width, height, pass_spp, seed))
-    info = dict(settings or {}, width=width, height=height, spp=spp, pass_spp=pass_spp,
-                seed=seed, integrator="volpath", max_depth=MAX_DEPTH, rr_depth=RR_DEPTH,
-                stencil_below_floor=STENCIL_BELOW, variant=peer._variant,
-                threads=dr.thread_count(), mitsuba=mi.__version__)
-    s1 = np.zeros((height, width, 3))
-    s2 = np.zeros((height, width, 3))
-    done = passes = 0
-    seconds = 0.0
-    for i in range(n_passes):
-        n = min(pass_spp, spp - done)
-        t0 = time.perf_counter()
-        img = np.array(mi.render(mscene, spp=n, seed=(seed * 100_003 + i) % 2**32),
-                       dtype=np.float64)[..., :3]
-        seconds += time.perf_counter() - t0
-        # Passes of unequal size (only the last one can be) are weighted by spp;
-        # the spread uses the equal-size passes' formula, which is close enough.
-        s1 += n * img
-        s2 += n * img * img
-        done += n
-        passes += 1
-        mean = s1 / done
-        if passes > 1:
-            var = np.maximum(s2 / done - mean * mean, 0.0) * passes / (passes - 1)
-            stderr = np.sqrt(var / passes)
-        else:
-            stderr = np.full_like(mean, np.nan)
-        info.update(spp_done=done, passes_done=passes, seconds=seconds,
-                    mean_linear=float(mean.mean()),
-                    rms_stderr_linear=float(np.sqrt(np.mean(stderr ** 2))))
-        log(f"pass {passes}/{n_passes}: {done} spp, {seconds:.0f} s, mean {mean.mean():.5f}, "
-            f"rms stderr {info['rms_stderr_linear']:.5f}")
-        if out is not None:
-            save(out, mean, stderr, info)
-        if time_limit is not None and seconds >= time_limit:
-            log(f"time limit {time_limit} s reached")
-            break
-    return mean.astype(np.float32), stderr.astype(np.float32), info
-
-
-def save(out, mean, stderr, info):
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    np.save(f"{out}.npy", mean.astype(np.float32))
-    np.save(f"{out}_stderr.npy", stderr.astype(np.float32))
-    Path(f"{out}.json").write_text(json.dumps(info, indent=1))
-    write_png(f"{out}.png", mean)
+    info = dict(settings or {}, integrator="volpath", max_depth=MAX_DEPTH, rr_depth=RR_DEPTH,
+                stencil_below_floor=STENCIL_BELOW)
+    return reference.render_passes(mscene, width, height, spp, pass_spp, seed, time_limit,
+                                   out, info, log)
 
 
 def main(argv=None):

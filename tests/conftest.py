@@ -37,3 +37,10 @@ def cornell_smoke_reference():
     """Mitsuba 3's volpath render of cornell_smoke at 150x150 (media in boxes)."""
     with np.load(DATA / "reference" / "cornell_smoke_150.npz") as f:
         return f["radiance"], f["stderr"]
+
+
+def failure_reference(name):
+    """Mitsuba 3's converged render of a failure scene (scenes/NAME.toml) at
+    100x100: (radiance, stderr)."""
+    with np.load(DATA / "reference" / f"{name}_100.npz") as f:
+        return f["radiance"], f["stderr"]

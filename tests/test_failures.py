@@ -1,0 +1,39 @@
+"""The scenes made to break one strategy each (scenes/caustic.toml,
+glass_lamp.toml, tiny_light.toml, mirror_light.toml): bidirectional path
+tracing and the default render each the same image as Mitsuba 3's converged
+one (tests/data/reference), block by block, where the strategy the scene
+breaks is merely slow."""
+import numpy as np
+import pytest
+
+import rtweekend as rt
+from conftest import failure_reference
+from stats import block_se, blocks
+
+FAILURES = ("caustic", "glass_lamp", "tiny_light", "mirror_light")
+
+
+def _z(a, a_se, b, b_se, n):
+    se = np.hypot(block_se(a_se, n), block_se(b_se, n))
+    keep = se > 0
+    return ((blocks(a, n) - blocks(b, n))[keep] / se[keep])
+
+
+@pytest.mark.parametrize("sampling", ["bdpt+sobol", "mixture+sobol"])
+@pytest.mark.parametrize("name", FAILURES)
+def test_failure_scenes_render_as_mitsuba_does(name, sampling):
+    # The image's quarters, 50 x 50 pixels each.  The light these scenes make
+    # hard arrives in rare large samples: in a small block the spread of a few
+    # batches then understates the standard error, and a render without the
+    # rare sample is low with a small error bar (20 x 20 blocks: |z| up to 7,
+    # and a mean z of -0.3 to -0.8 over seeds, where the mean of 8 seeds'
+    # renders met the reference within |z| 2.3).  A quarter holds enough of
+    # them for the normal approximation.
+    reference, ref_se = failure_reference(name)
+    result = rt.render(rt.load_scene(name), spp=256, width=100, height=100, sampling=sampling,
+                       seed=11, threads=2)
+    assert result.stats.nan_dropped == 0
+    z = _z(result.image, result.stderr, reference, ref_se, 50)
+    assert z.size == 12
+    assert np.abs(z).max() < 5, f"worst quarter z = {np.abs(z).max():.2f}"
+
