@@ -46,6 +46,7 @@ if scene.resolved_integrator() == "classic":
                first_image_s=time.perf_counter() - t0)
 else:
     r = rt.Renderer(scene, seed=1, width=size, height=size)
+    out["sampling"] = r.options.sampling            # the scene's default
     f = r.frame.features
     out["features"] = [n for n, v in (("textures", f.textures), ("media", f.media),
                                       ("motion", f.motion)) if v is not None] or ["none"]
@@ -89,7 +90,8 @@ def measure(name, size, spp, runs, quick=False):
             colds.append(child(name, size, spp, cache))
             cached = child(name, size, spp, cache)
     pick = sorted(colds, key=lambda o: o["compile_s"])[len(colds) // 2]      # the median run
-    return dict(scene=name, features=pick["features"], compile_s=pick["compile_s"],
+    return dict(scene=name, features=pick["features"], sampling=pick.get("sampling"),
+                compile_s=pick["compile_s"],
                 compile_runs=[o["compile_s"] for o in colds], nee_s=pick.get("nee_s"),
                 lightpath_s=pick.get("lightpath_s"), samples_per_s=pick["samples_per_s"],
                 cached_start_s=cached["first_image_s"])
@@ -102,16 +104,19 @@ def _seconds(x):
 def main():
     p = bench_parser(__doc__)
     p.add_argument("--runs", type=int, default=1, help="fresh processes (empty caches) per scene")
+    p.add_argument("--scenes", help="comma-separated (default: every bundled scene)")
     args = p.parse_args()
     size, spp = (16, 1) if args.quick else (100, 8)
     names = ["cornell_box", "cgfs"] if args.quick else _listed()
+    names = args.scenes.split(",") if args.scenes else names
     rows = []
-    print(f"{'scene':18s} {'features':24s} {'cold':>7s} {'+nee':>7s} {'+lightpath':>10s} "
-          f"{'cached start':>12s} {'samples/s':>10s}")
+    print(f"{'scene':18s} {'features':24s} {'default':14s} {'cold':>7s} {'+nee':>7s} "
+          f"{'+lightpath':>10s} {'cached start':>12s} {'samples/s':>10s}")
     for name in names:
         row = measure(name, size, spp, args.runs, args.quick)
         rows.append(row)
-        print(f"{name:18s} {'+'.join(row['features']):24s} {_seconds(row['compile_s'])} "
+        print(f"{name:18s} {'+'.join(row['features']):24s} {row['sampling'] or '':14s} "
+              f"{_seconds(row['compile_s'])} "
               f"{_seconds(row['nee_s'])} {_seconds(row['lightpath_s']):>10s} "
               f"{row['cached_start_s']:11.2f}s {row['samples_per_s'] / 1e6:8.2f} M", flush=True)
     total = float(np.sum([r["compile_s"] for r in rows]))

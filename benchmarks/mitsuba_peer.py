@@ -239,11 +239,17 @@ def _sensor(cam, spp, seed):
     return d
 
 
-def mitsuba_dict(scene, spp, seed=0):
-    """A Mitsuba scene dict (mi.load_dict) for an rtweekend Scene."""
+def mitsuba_dict(scene, spp, seed=0, aov=False):
+    """A Mitsuba scene dict (mi.load_dict) for an rtweekend Scene; aov: the
+    path integrator inside Mitsuba's `aov` one, whose image has 9 channels:
+    RGB, then the albedo and the shading normal of the first hit (for a
+    denoiser, benchmarks/denoise.py)."""
     _setup()
-    d = {"type": "scene",
-         "integrator": {"type": "path", "max_depth": int(scene.resolved_max_depth())},
+    integrator = {"type": "path", "max_depth": int(scene.resolved_max_depth())}
+    if aov:
+        integrator = {"type": "aov", "aovs": "albedo:albedo,nn:sh_normal",
+                      "integrator": integrator}
+    d = {"type": "scene", "integrator": integrator,
          "sensor": _sensor(scene.camera, spp, seed)}
     bg = scene.resolved_background()
     if isinstance(bg, str):
@@ -270,7 +276,7 @@ def render(scene, spp, seed=0, pass_spp=64, threads=None, info=None):
     _render_passes(mscene, pass_spp, pass_spp, seed, warm_up=True)   # compile + run
     warm = time.perf_counter() - t0
     t0 = time.perf_counter()
-    image = _render_passes(mscene, spp, pass_spp, seed)
+    image = _render_passes(mscene, spp, pass_spp, seed)[..., :3]
     seconds = time.perf_counter() - t0
     if info is not None:
         info.update(warmup_seconds=warm, passes=-(-spp // pass_spp), variant=_variant,
@@ -279,7 +285,7 @@ def render(scene, spp, seed=0, pass_spp=64, threads=None, info=None):
     return image.astype(np.float32), seconds
 
 
-def series(scene, spps, seed=0, pass_spp=64, threads=None, info=None):
+def series(scene, spps, seed=0, pass_spp=64, threads=None, info=None, aov=False):
     """[(spp, seconds, float64 image)] for each spp in spps: separate renders,
     each timed from scratch (render k uses seed + k, so no two share samples).
 
@@ -288,7 +294,7 @@ def series(scene, spps, seed=0, pass_spp=64, threads=None, info=None):
     it, the variant and the thread count."""
     _setup(threads)
     biggest = max(1, min(pass_spp, max(spps)))
-    mscene = mi.load_dict(mitsuba_dict(scene, biggest, seed))
+    mscene = mi.load_dict(mitsuba_dict(scene, biggest, seed, aov))
     t0 = time.perf_counter()
     _render_passes(mscene, biggest, biggest, seed, warm_up=True)      # compile + run
     first = time.perf_counter() - t0
@@ -301,6 +307,7 @@ def series(scene, spps, seed=0, pass_spp=64, threads=None, info=None):
     for k, n in enumerate(spps):
         t0 = time.perf_counter()
         image = _render_passes(mscene, n, pass_spp, seed + k)
+        image = image if aov else image[..., :3]
         out.append((n, time.perf_counter() - t0, image))
     if info is not None:
         info.update(warmup_seconds=first + again, compile_seconds=max(0.0, first - again),
@@ -311,14 +318,15 @@ def series(scene, spps, seed=0, pass_spp=64, threads=None, info=None):
 
 def _render_passes(mscene, spp, pass_spp, seed, warm_up=False):
     """The mean of spp samples per pixel, rendered in passes of at most pass_spp
-    (pass i uses Mitsuba seed seed * 100003 + i; a warm-up pass, 99999)."""
+    (pass i uses Mitsuba seed seed * 100003 + i; a warm-up pass, 99999); every
+    channel the film has."""
     pass_spp = max(1, min(pass_spp, spp))
     passes = [pass_spp] * (spp // pass_spp) + ([spp % pass_spp] if spp % pass_spp else [])
     acc = 0.0
     for i, n in enumerate(passes):
         s = (seed * 100_003 + (99_999 if warm_up else i)) % 2**32
         img = mi.render(mscene, spp=n, seed=s)
-        acc = acc + n * np.array(img, dtype=np.float64)[..., :3]   # evaluates the kernel
+        acc = acc + n * np.array(img, dtype=np.float64)   # evaluates the kernel
     return acc / spp
 
 
@@ -335,6 +343,8 @@ def main(argv=None):
     p.add_argument("--save", type=Path, help="write the image as .npy (.npz with --series)")
     p.add_argument("--series", action="store_true",
                    help="separate renders at 1, 2, 4, ... --spp (for benchmarks/accuracy.py)")
+    p.add_argument("--aov", action="store_true", help="with --series: 9 channels, RGB, "
+                   "albedo, normal (for benchmarks/denoise.py)")
     a = p.parse_args(argv)
     why = unavailable_reason()
     if why:
@@ -348,7 +358,7 @@ def main(argv=None):
     info = {}
     if a.series:
         spps = [2 ** k for k in range(a.spp.bit_length()) if 2 ** k <= a.spp]
-        out = series(scene, spps, a.seed, threads=a.threads, info=info)
+        out = series(scene, spps, a.seed, threads=a.threads, info=info, aov=a.aov)
         if a.save:
             np.savez(a.save, spp=np.array(spps), seconds=np.array([t for _, t, _ in out]),
                      images=np.array([im for _, _, im in out], dtype=np.float32))

@@ -17,7 +17,7 @@ from .scene import Scene
 
 def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
            max_depth=None, threads=None, sampling=None, progress=False, bvh=None,
-           clamp=None, client=None, aov=None):
+           clamp=None, client=None, aov=None, denoise=False):
     """Render `scene`; returns RenderResult, which unpacks as (image, stats).
 
     A classic (Computer Graphics from Scratch) scene is ray traced once per
@@ -28,9 +28,11 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     this many seconds are spent instead.  sampling: "mixture" (The Rest of Your
     Life), "cosine" (The Next Week), "light" (lights only; misses indirect
     light) or "nee" (next-event estimation with MIS and Russian roulette);
-    "mixture+sobol" (the default) and "nee+sobol" feed them low-discrepancy
-    points for the pixel position and the first diffuse bounce.  progress: True for a
-    bar on stderr, or a callable
+    "mixture+sobol" and "nee+sobol" feed them low-discrepancy points for the
+    pixel position and the first diffuse bounce; "lightpath" (light tracing),
+    "bdpt" and "bdpt+sobol" (bidirectional).  None: options.default_sampling,
+    bdpt+sobol where emitters light much metal or glass, else mixture+sobol.
+    progress: True for a bar on stderr, or a callable
     progress(spp_done, spp_total_or_None, samples_per_s).  bvh: force the
     hierarchy on (True) or off (False); by default scenes with many objects use it.
     clamp: cap every sample's channels at this value (biased: it removes energy;
@@ -42,7 +44,11 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     result.aov["albedo"] is the albedo of what each pixel's paths first see
     through mirrors and glass (times their colour), result.aov["normal"] its
     normal facing the camera, both averaged over the pixel's samples; the image
-    is the same as without them.
+    is the same as without them.  "emission": the light the camera sees emitted
+    there (directly, or in mirrors and through glass).
+    denoise: also denoise the image with Open Image Denoise (pip install
+    'rtweekend[denoise]'), fed with those features: result.denoised, beside the
+    unbiased result.image; the light seen emitted is kept out of the filter.
     """
     if not isinstance(scene, Scene):
         raise SceneError(f"render: expected a Scene (rt.load_scene or rt.Scene), "
@@ -53,6 +59,7 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     options = RenderOptions(integrator, spp=spp, time=time, seed=seed, width=width,
                             height=height, max_depth=max_depth, threads=threads,
                             sampling=sampling, clamp=clamp, bvh=bvh, aov=aov,
+                            denoise=denoise or None,
                             progress=progress)
     if integrator == "classic":
         return render_classic(scene, options)

@@ -82,9 +82,17 @@ def build_parser():
                    "only, or nee: next-event estimation (shadow rays, MIS) with Russian "
                    "roulette; lightpath: light tracing; bdpt: bidirectional path tracing "
                    "(caustics without fireflies); +sobol: low-discrepancy points for the "
-                   "pixel position and the first bounce (default: mixture+sobol)")
+                   "pixel position and the first bounce (default: bdpt+sobol where light "
+                   "can reach metal or glass, else mixture+sobol)")
     r.add_argument("--clamp", type=_option("clamp", float), metavar="X", help="cap every sample's "
                    "channels at X: fewer fireflies, but BIASED (darker); off by default")
+    r.add_argument("--denoise", action="store_true", help="write the image denoised by Intel "
+                   "Open Image Denoise (biased: smooth, not exact; .npy/.exr also keep the "
+                   "unbiased one as the layer 'unbiased'). Needs pip install "
+                   "'rtweekend[denoise]'")
+    r.add_argument("--aov", metavar="NAMES", help="also save feature images, comma-separated: "
+                   "albedo, normal, emission (.exr: layers NAME.R/G/B; .npy: OUT.NAME.npy "
+                   "beside OUT.npy)")
     cluster = r.add_mutually_exclusive_group()
     cluster.add_argument("--scheduler", metavar="ADDRESS", help="render on the Dask cluster "
                          "of this scheduler (tcp://HOST:8786); same image as here. Needs "
@@ -148,19 +156,32 @@ def _render(args):
     scene = load_scene(args.scene)
     output = Path(args.output) if args.output else Path(f"{scene.name}.png")
     check_output_path(output)            # before spending minutes on the render
+    layered = output.suffix.lower() in (".npy", ".exr")
+    if args.aov and not layered:
+        raise SceneError(f"--aov: {output}: only .npy and .exr files hold feature images; "
+                         "write one of those")
     with dask_client(scene, scheduler=args.scheduler, workers=args.workers,
                      threads=args.threads) as client:
         result = render(scene, spp=args.spp, time=args.time, seed=args.seed,
                         width=args.width, height=args.height, max_depth=args.max_depth,
                         threads=args.threads, sampling=args.sampling, clamp=args.clamp,
-                        progress=not args.quiet, client=client)
+                        progress=not args.quiet, client=client, aov=args.aov,
+                        denoise=args.denoise)
     stats = result.stats
     if stats.samples == 0:
         when = "while compiling" if stats.seconds == 0 else "before the first samples"
         _leave(EXIT_INTERRUPTED, f"rtweekend: {stats.stopped_by or 'stopped'} {when}; "
                "nothing written")
+    image, layers = result.image, dict(result.aov)
+    if result.denoised is not None:
+        image = result.denoised
+        if layered:
+            layers["unbiased"] = result.image
+    metadata = dict(spp=stats.spp, seed=stats.seed, seconds=f"{stats.seconds:.3f}",
+                    sampling=stats.sampling or "", version=version(),
+                    denoised=result.denoised is not None)
     try:
-        save_image(result, output)
+        save_image(image, output, layers, metadata)
     except OSError as e:
         raise SceneError(f"{output}: cannot write: {e.strerror or e}") from None
     print(f"{output}: {stats.summary()}")

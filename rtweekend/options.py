@@ -6,6 +6,7 @@ Every option the command line, the API or a Renderer passes goes through here
 (its numbers through checks.py, as the scene's do); a bad one raises SceneError
 with a one-line message naming it.
 """
+import dataclasses
 import difflib
 import math
 from contextlib import contextmanager
@@ -63,13 +64,24 @@ SAMPLINGS = {
     "bdpt": Sampling(0.0, estimator="bdpt"),
     "bdpt+sobol": Sampling(0.0, sobol=True, estimator="bdpt"),
 }
-# The default: the strategy with the lowest error at equal time on the bundled
-# scenes (benchmarks/accuracy.py; README, Accuracy).  "mixture" is the books'.
+# The default: the strategy with the lowest error at equal time, by what the
+# scene holds (benchmarks/strategies.py and accuracy.py; README, Accuracy).
+# Where emitters light metal or glass that is a noticeable part of the scene
+# (SPECULAR_SHARE of its surface area or more) and that the lights list does not
+# aim the mixture at, bidirectional path tracing finds the caustics and the light
+# through glass or off mirrors that camera paths find only by chance; elsewhere
+# it pays for connections that find little new.  Measured: next_week_final (0.7%
+# metal or glass) 1.65x the mixture's error; caustic, whose glass ball is in the
+# lights list (the books' way to render its caustic), 1.1-1.4x.  "mixture" is
+# the books'.
 DEFAULT_SAMPLING = "mixture+sobol"
+SPECULAR_DEFAULT = "bdpt+sobol"
+SPECULAR = ("metal", "dielectric")
+SPECULAR_SHARE = 0.02
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.
-PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh", "aov")
+PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh", "aov", "denoise")
 # Feature images a path-traced render can add (film.py: for denoisers).
-AOVS = ("albedo", "normal")
+AOVS = ("albedo", "normal", "emission")
 # The numeric options (checks.option holds each one's rule).
 NUMBERS = ("spp", "time", "seed", "width", "height", "max_depth", "threads", "clamp")
 
@@ -85,7 +97,9 @@ class RenderOptions:
     clamp: cap on each sample's channels (biased; None: off).
     bvh: force the hierarchy on or off (None: by the scene's size).
     aov: feature images to add, some of AOVS (None or (): none): the albedo and
-    normal of what each pixel's paths first see through mirrors and glass.
+    normal of what each pixel's paths first see through mirrors and glass, and
+    the light they see emitted there.
+    denoise: also make the image denoised by Open Image Denoise (denoise.py).
     progress: True for a bar on stderr, a callable, or False.
     """
     integrator: str = "path"
@@ -100,6 +114,7 @@ class RenderOptions:
     clamp: float | None = None
     bvh: bool | None = None
     aov: tuple | None = None
+    denoise: bool | None = None
     progress: object = False
 
     def __post_init__(self):
@@ -123,6 +138,26 @@ class RenderOptions:
         if self.bvh is not None and not isinstance(self.bvh, bool):
             raise SceneError(f"render: bvh: must be True, False or None, got {self.bvh!r}")
         self._check_aov()
+        self._check_denoise()
+
+    def _check_denoise(self):
+        """denoise: a bool; with it, paths from the camera, and OIDN installed."""
+        if self.denoise is None:
+            return
+        if not isinstance(self.denoise, bool):
+            raise SceneError(f"render: denoise: must be True or False, got {self.denoise!r}")
+        if self.denoise:
+            if self.strategy.estimator == "light":
+                raise SceneError(f"render: denoise: {self.sampling} traces no paths from the "
+                                 "camera, so it has no feature images to denoise with; use "
+                                 "a path-tracing sampling")
+            from .denoise import require
+            require()
+
+    @property
+    def features(self):
+        """Does the film keep feature images: asked for, or for the denoiser."""
+        return bool(self.aov) or bool(self.denoise)
 
     def _check_aov(self):
         """aov: None, or names of AOVS (a string of them separated by commas too)."""
@@ -177,12 +212,34 @@ class RenderOptions:
 
     @property
     def strategy(self):
-        """The Sampling of this render (path only)."""
+        """The Sampling of this render (path only; for_scene resolves the default)."""
         return SAMPLINGS[self.sampling or DEFAULT_SAMPLING]
+
+    def for_scene(self, scene):
+        """These options with the sampling named: the default_sampling of `scene`
+        when none is given."""
+        if self.sampling is not None or self.integrator != "path":
+            return self
+        return dataclasses.replace(self, sampling=default_sampling(scene))
 
     @property
     def clamp_value(self):
         return math.inf if self.clamp is None else float(self.clamp)
+
+
+def default_sampling(scene):
+    """The sampling a path-traced scene gets when none is asked for:
+    SPECULAR_DEFAULT when it has an emitter and metal or glass outside its lights
+    list make up at least SPECULAR_SHARE of its surfaces' area, else
+    DEFAULT_SAMPLING."""
+    surfaces = [shape for shape in scene.objects if not shape.medium]
+    if not any(shape.material.kind == "diffuse_light" for shape in surfaces):
+        return DEFAULT_SAMPLING
+    listed = {id(light) for light in scene.lights}
+    total = sum(shape.area for shape in surfaces)
+    specular = sum(shape.area for shape in surfaces
+                   if shape.material.kind in SPECULAR and id(shape) not in listed)
+    return SPECULAR_DEFAULT if specular >= SPECULAR_SHARE * total else DEFAULT_SAMPLING
 
 
 @contextmanager

@@ -26,6 +26,8 @@ class RenderStats:
     partial_rows: int = 0    # rows that have partial_spp samples more than spp (a pass
     partial_spp: int = 0     # over part of the rows, interrupted)
     compiled: bool = False   # the kernels were compiled (not loaded from the cache)
+    denoise_seconds: float | None = None   # Open Image Denoise's time, when asked for
+    sampling: str | None = None   # the path tracer's strategy (options.SAMPLINGS)
 
     @property
     def samples_per_s(self):
@@ -60,14 +62,17 @@ class RenderStats:
         note = (f" (interrupted: {self.spp} of {self.spp_requested} spp)"
                 if self.interrupted and self.spp_requested else
                 " (interrupted)" if self.interrupted else "")
-        return (f"{self.width}x{self.height}, {self.spp} spp{self.partial_note}, "
+        how = f"{self.sampling}, " if self.sampling else ""
+        return (f"{self.width}x{self.height}, {self.spp} spp{self.partial_note}, {how}"
                 f"{self.seconds:.2f} s{self.compile_note}, "
                 f"{self.samples_per_s / 1e6:.3f} M samples/s, "
                 f"{self.rays_per_s / 1e6:.3f} M rays/s, "
                 f"{self.nan_dropped} NaN/Inf samples dropped, "
                 f"{self.fireflies} fireflies (>{FIREFLY_FACTOR:g}x mean) holding "
                 f"{100 * self.firefly_energy:.1f}% of the energy"
-                + (f", clamped at {self.clamp:g} (biased)" if self.clamp else "") + note)
+                + (f", clamped at {self.clamp:g} (biased)" if self.clamp else "")
+                + (f", denoised in {self.denoise_seconds:.2f} s"
+                   if self.denoise_seconds is not None else "") + note)
 
     @property
     def partial_note(self):
@@ -88,11 +93,14 @@ class RenderResult:
     (0 for a classic scene).  save_image(result) and save_image(result.image)
     write the same file.  aov: the feature images asked for (render(...,
     aov=("albedo", "normal"))), {name: HxWx3 float32}; {} otherwise.
+    denoised: with denoise=True, the image denoised by Open Image Denoise
+    (HxWx3 float32; None otherwise); image stays the unbiased one.
     """
 
-    def __init__(self, image, stats, stderr, aov=None):
+    def __init__(self, image, stats, stderr, aov=None, denoised=None):
         self.image, self.stats, self.stderr = image, stats, stderr
         self.aov = aov or {}
+        self.denoised = denoised
 
     def __iter__(self):
         return iter((self.image, self.stats))

@@ -93,3 +93,48 @@ def test_light_tracing_has_no_features():
     with pytest.raises(SceneError, match="no feature images"):
         rt.render(rt.load_scene("cornell_box"), spp=1, width=4, height=4,
                   sampling="lightpath", aov=BOTH)
+
+
+@pytest.mark.parametrize("sampling", ["mixture+sobol", "bdpt"])
+def test_features_through_a_glass_pane_are_those_of_what_lies_behind(sampling):
+    # A glass box in front of the wall: the camera ray goes in and out of it
+    # (weight 1: both faces refract, or Schlick reflects it back at the
+    # camera, where nothing is), so the features are the wall's.
+    scene = _wall_scene(False)
+    scene.add(rt.box((-40, -40, -3), (40, 40, -2), rt.dielectric(1.5)))
+    r = rt.render(scene, spp=64, seed=1, aov=BOTH + ("emission",), sampling=sampling)
+    # Schlick sends about 4% back at each face, into the dark (albedo 0, no
+    # normal): each pixel's features are the wall's times the share of its
+    # rays that got through, the same share in both.
+    through = r.aov["normal"][..., 2]
+    assert 0.85 < through.mean() < 1.0 and through.max() <= 1.0
+    np.testing.assert_allclose(r.aov["normal"][..., :2], 0.0, atol=1e-12)
+    np.testing.assert_allclose(r.aov["albedo"], 0.5 * through[..., None] * np.ones(3),
+                               rtol=1e-6)
+    assert r.aov["emission"].max() == 0.0
+
+
+@pytest.mark.parametrize("sampling", ["mixture", "nee+sobol", "bdpt"])
+def test_the_emission_feature_is_the_light_seen_directly_or_in_a_mirror(sampling):
+    # A camera facing a light (radiance 3) that fills its view, seen directly
+    # and in a mirror of albedo 0.5: the feature is the radiance seen, exactly,
+    # and the image is the same with the feature asked for.
+    scene = rt.Scene(camera=rt.Camera(lookfrom=(0, 0, 0), lookat=(0, 0, -1), vfov=30,
+                                      width=8, height=8))
+    scene.add(rt.xy_rect(-50, 50, -50, 50, -5, rt.diffuse_light((3, 3, 3))), light=True)
+    r = rt.render(scene, spp=4, seed=1, aov=("emission",), sampling=sampling)
+    np.testing.assert_allclose(r.aov["emission"], 3.0, rtol=1e-6)
+    mirror = rt.Scene(camera=rt.Camera(lookfrom=(0, 0, 0), lookat=(0, 0, -1), vfov=30,
+                                       width=8, height=8))
+    mirror.add(rt.xy_rect(-50, 50, -50, 50, -5, rt.metal((0.5, 0.5, 0.5), 0.0)))
+    mirror.add(rt.xy_rect(-50, 50, -50, 50, 5, rt.diffuse_light((3, 3, 3))).flip_face(),
+               light=True)
+    r = rt.render(mirror, spp=4, seed=1, aov=("emission",), sampling=sampling)
+    np.testing.assert_allclose(r.aov["emission"], r.image, rtol=1e-6)
+    if sampling != "nee+sobol":     # with no Russian roulette after the mirror: exactly
+        np.testing.assert_allclose(r.image, 1.5, rtol=1e-6)
+    else:                           # roulette: 1.5 in the mean
+        se = np.sqrt((r.stderr.astype(float) ** 2).sum()) / r.stderr.size
+        assert abs(r.image.mean() - 1.5) < 5 * se
+    plain = rt.render(mirror, spp=4, seed=1, sampling=sampling)
+    assert np.array_equal(plain.image, r.image)

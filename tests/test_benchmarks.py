@@ -232,3 +232,31 @@ def test_compile_benchmark_quick(tmp_path):
     lines = r.stdout.splitlines()
     assert lines[1].startswith("cornell_box") and lines[2].startswith("cgfs")
     assert "sum of the cold compiles" in lines[-1]
+
+
+def test_strategies_benchmark_quick(tmp_path):
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "strategies.py"), "--quick",
+                        "--threads", "1", "--out", str(tmp_path)], capture_output=True,
+                       text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    data = json.loads((tmp_path / "strategies.json").read_text())
+    assert len(data["scenes"]) == 2
+    for row in data["scenes"].values():
+        got = row["strategies"]
+        assert got[data["default"]]["ratio_to_default"] == 1.0
+        assert all(v["rmse"] > 0 and v["spp"] >= 1 for v in got.values())
+        assert row["lowest"] in got
+
+
+def test_denoise_benchmark_quick(tmp_path):
+    pytest.importorskip("pyoidn", reason="needs the denoise extra")
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "denoise.py"), "--quick",
+                        "--no-peer", "--threads", "1", "--out", str(tmp_path)],
+                       capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    data = json.loads((tmp_path / "denoise.json").read_text())
+    assert [row["spp"] for row in data["errors"]] == [1, 2]
+    assert all(0 < v for row in data["errors"] for v in row["denoised"].values())
+    assert [row["spp"] for row in data["curves"]] == [1, 2, 4]
+    assert data["peer"] is None and 0 < data["cost"]["share"]
+    assert (tmp_path / "denoise.png").stat().st_size > 10_000

@@ -54,8 +54,8 @@ def test_scenes_lists_every_bundled_scene():
 
 
 @pytest.mark.parametrize("args, message", [
-    (["render", "no_such_scene"], "bundled scenes (bouncing_spheres, cgfs, checkered_spheres, "
-                                  "cornell_box, cornell_glass"),
+    (["render", "no_such_scene"], "bundled scenes (bouncing_spheres, caustic, cgfs, "
+                                  "checkered_spheres, cornell_box, cornell_glass"),
     (["render", "metals", "--spp", "4", "--time", "2"], "not allowed with"),
     (["render", "metals", "--spp", "0"], "must be >= 1"),
     (["render", "metals", "-o", "x.gif2"], "unknown output extension"),

@@ -162,3 +162,26 @@ def test_next_week_scenes_render_without_bad_samples(name):
     assert r.stats.nan_dropped == 0 and r.image.mean() > 0.01
     one = rt.render(scene, spp=4, seed=1, width=24, height=18, threads=1)
     assert np.array_equal(r.image, one.image)
+
+
+def test_the_default_sampling_follows_from_what_the_scene_holds():
+    # bdpt+sobol where emitters light metal or glass making up >= 2% of the
+    # surface area, and not in the lights list (measured: benchmarks/
+    # strategies.py and accuracy.py), mixture+sobol elsewhere.
+    def used(scene, **kw):
+        return rt.render(scene, spp=1, width=8, height=8, **kw).stats.sampling
+
+    assert used(rt.load_scene("cornell_glass")) == "bdpt+sobol"        # 14% metal, unlisted
+    assert used(rt.load_scene("caustic")) == "mixture+sobol"           # its glass is listed
+    assert used(rt.load_scene("next_week_final")) == "mixture+sobol"   # 0.7%
+    assert used(rt.load_scene("cornell_box")) == "mixture+sobol"
+    assert used(rt.load_scene("weekend")) == "mixture+sobol"           # no emitter: the sky
+    assert used(rt.load_scene("cornell_glass"), sampling="nee") == "nee"
+    box = rt.load_scene("cornell_box")               # walls, light and boxes: 1.99e6
+    box.add(rt.sphere((400, 50, 100), 30, rt.dielectric(1.5)))         # 0.57%: too little
+    assert used(box) == "mixture+sobol"
+    ball = rt.sphere((150, 80, 100), 80, rt.metal((0.8, 0.8, 0.8), 0.0))      # 4.5%
+    box.add(ball)
+    assert used(box) == "bdpt+sobol"
+    box.lights.append(ball)                         # the mixture aims at it: its own way
+    assert used(box) == "mixture+sobol"

@@ -221,9 +221,13 @@ def test_extreme_legal_fields_of_view_render(vfov):
     assert r.stats.nan_dropped == 0 and np.isfinite(r.image).all()
 
 
+@pytest.mark.parametrize("sampling", [None, "bdpt"])
 @pytest.mark.parametrize("name", sorted(rt.bundled_scenes()))
-def test_bundled_scenes_drop_no_samples(name):
+def test_bundled_scenes_drop_no_samples(name, sampling):
     scene = rt.load_scene(name)
-    budget = {} if scene.resolved_integrator() == "classic" else dict(spp=4, seed=9)
+    classic = scene.resolved_integrator() == "classic"
+    if classic and sampling:
+        pytest.skip("the classic ray tracer does not sample")
+    budget = {} if classic else dict(spp=4, seed=9, sampling=sampling)
     r = rt.render(scene, width=40, height=24, **budget)
     assert r.stats.nan_dropped == 0 and np.isfinite(r.image).all()

@@ -55,26 +55,38 @@ def check_output_path(path):
                          f"{e.strerror or e}") from None
 
 
-def encode(image, ext):
-    """The file contents for `image` (HxWx3 float) as bytes."""
-    image = np.asarray(image, dtype=np.float32)
-    if image.ndim != 3 or image.shape[2] != 3:
-        raise SceneError(f"save_image: expected an HxWx3 image, got shape {image.shape}")
+def encode(image, ext, layers=None, metadata=None):
+    """The file contents for `image` (HxWx3 float) as bytes; .exr files also
+    hold `layers` ({name: HxWx3}: channels name.R, name.G, name.B) and
+    `metadata` ({name: str}: header attributes)."""
+    image = _rgb(image, "image")
     buf = io.BytesIO()
     if ext == ".npy":
         np.save(buf, image)
     elif ext == ".exr":
-        _write_exr(image, buf)
+        _write_exr(image, buf, layers or {}, metadata or {})
     else:
         import imageio.v3 as iio
         return iio.imwrite("<bytes>", tonemap(image), extension=ext)
     return buf.getvalue()
 
 
-def _write_exr(image, buf):
+def _rgb(image, what):
+    image = np.asarray(image, dtype=np.float32)
+    if image.ndim != 3 or image.shape[2] != 3:
+        raise SceneError(f"save_image: {what}: expected an HxWx3 image, got shape {image.shape}")
+    return image
+
+
+def _write_exr(image, buf, layers, metadata):
     import OpenEXR
     channels = {"RGB": np.ascontiguousarray(image)}
-    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage}
+    for name, layer in layers.items():
+        layer = _rgb(layer, name)
+        for i, c in enumerate("RGB"):
+            channels[f"{name}.{c}"] = np.ascontiguousarray(layer[..., i])
+    header = {"compression": OpenEXR.ZIP_COMPRESSION, "type": OpenEXR.scanlineimage,
+              **{f"rtweekend.{k}": str(v) for k, v in metadata.items()}}
     with tempfile.TemporaryDirectory() as tmp:
         # The bindings write to a path; go through a private file, then to memory.
         name = os.path.join(tmp, "image.exr")
@@ -83,18 +95,39 @@ def _write_exr(image, buf):
         buf.write(Path(name).read_bytes())
 
 
-def save_image(image, path):
+def layer_path(path, name):
+    """Where a .npy output's layer `name` goes: OUT.npy -> OUT.name.npy."""
+    path = Path(path)
+    return path.with_name(f"{path.stem}.{name}{path.suffix}")
+
+
+def save_image(image, path, layers=None, metadata=None):
     """Write `image` to `path`, atomically; the format follows the extension.
 
     image: an HxWx3 array of linear radiance, or what render() returned (the
     same file: a result is its .image).  .png/.jpg/...: the books' tone map
     (which writes a classic scene's canvas colours exactly); .npy and .exr:
-    float32 linear values (.exr needs the `exr` extra).
+    float32 linear values (.exr needs the `exr` extra).  layers ({name: HxWx3},
+    .npy and .exr only): more images of the render -- feature images, the
+    unbiased image beside a denoised one -- as the .exr's layers name.R/G/B, or
+    beside a .npy as OUT.name.npy.  metadata ({name: value}): the .exr's
+    header attributes rtweekend.name.
     """
     image = getattr(image, "image", image)
     path = Path(path)
     check_output_path(path)
-    data = encode(image, path.suffix.lower())
+    ext = path.suffix.lower()
+    if layers and ext not in (".npy", ".exr"):
+        raise SceneError(f"{path}: only .npy and .exr files can hold more layers "
+                         f"({', '.join(layers)}); .png and the like hold one tone-mapped image")
+    if ext == ".npy":
+        for name, layer in (layers or {}).items():
+            _write_atomically(layer_path(path, name), encode(layer, ext))
+        layers = None
+    _write_atomically(path, encode(image, ext, layers, metadata))
+
+
+def _write_atomically(path, data):
     fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part",
                                dir=path.parent if str(path.parent) else ".")
     try:

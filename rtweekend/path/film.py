@@ -63,6 +63,8 @@ class Film(NamedTuple):
     #                        running sums would round, and differ from a block's own)
     albedo: np.ndarray     # float64 [H, W, 3]: sum of the samples' albedo ([0, 0, 3]: none)
     normal: np.ndarray     # float64 [H, W, 3]: sum of their normals
+    emission: np.ndarray   # float64 [H, W, 3]: sum of the light their camera rays saw
+    #                        emitted, directly or through mirrors and glass
 
 
 def new_film(height, width, splats=False, aov=False):
@@ -77,12 +79,13 @@ def new_film(height, width, splats=False, aov=False):
                 np.zeros((height, HIST_BINS), dtype=np.int64),
                 np.zeros((height, HIST_BINS)),
                 np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.int64),
-                np.zeros(size), np.zeros(size), np.zeros(features), np.zeros(features))
+                np.zeros(size), np.zeros(size), np.zeros(features), np.zeros(features),
+                np.zeros(features))
 
 
 def film_bytes(height, width, splats=False, aov=False):
     """The bytes new_film(height, width, splats, aov) allocates."""
-    per_pixel = 4 * 3 * 8 + 8 + (4 * 3 * 8 if splats else 0) + (2 * 3 * 8 if aov else 0)
+    per_pixel = 4 * 3 * 8 + 8 + (4 * 3 * 8 if splats else 0) + (3 * 3 * 8 if aov else 0)
     return height * width * per_pixel + height * (2 * 8 + HIST_BINS * (8 + 8))
 
 
@@ -97,7 +100,7 @@ RESULT_BYTES_PER_PIXEL = 200
 def render_bytes(height, width, splats=False, aov=False):
     """About the most memory a render of this size holds at once."""
     return film_bytes(height, width, splats, aov) + \
-        RESULT_BYTES_PER_PIXEL * (3 if aov else 1) * height * width
+        RESULT_BYTES_PER_PIXEL * (4 if aov else 1) * height * width
 
 
 def merge(film, other):
@@ -140,6 +143,15 @@ def add_features(film, y, x, albedo, normal):
     for c in range(3):
         film.albedo[y, x, c] += albedo[c]
         film.normal[y, x, c] += normal[c]
+
+
+@jit_step
+def add_emission(film, y, x, light):
+    """Add to pixel (x, y)'s emission feature the light a sample's camera ray saw
+    emitted, directly or through mirrors and glass: what a denoiser should not
+    blur (the denoiser adds it back to its output)."""
+    for c in range(3):
+        film.emission[y, x, c] += light[c]
 
 
 def fold_splats(film):
@@ -226,7 +238,8 @@ def features(film, samples):
         return {}
     n = np.asarray(samples, dtype=np.float64)[:, None, None]
     return {name: np.divide(total, n, out=np.zeros_like(total), where=n > 0).astype(np.float32)
-            for name, total in (("albedo", film.albedo), ("normal", film.normal))}
+            for name, total in (("albedo", film.albedo), ("normal", film.normal),
+                                ("emission", film.emission))}
 
 
 def firefly_stats(film, image_mean):

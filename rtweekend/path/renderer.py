@@ -17,6 +17,7 @@ import numpy as np
 
 from ..kernel.jit import collector_paused
 from .. import checks, memory
+from ..denoise import denoise as denoise_image
 from ..errors import FieldError, SceneError
 from ..kernel.rows import interleaved_rows, on_threads
 from ..options import RenderOptions, thread_count
@@ -78,7 +79,7 @@ def freeze(scene, options):
     if strategy.estimator == "light":
         _check_light_tracing(options, arrays)
     return Frame(arrays, params, interleaved_rows(camera.height), features, strategy.estimator,
-                 bool(options.aov))
+                 options.features)
 
 
 def _check_light_tracing(options, arrays):
@@ -148,7 +149,7 @@ def _check_memory(scene, options):
     width, height = options.width or camera.width, options.height or camera.height
     estimator = ESTIMATORS[options.strategy.estimator]
     scene_part = scene_bytes(scene)
-    memory.check(films.render_bytes(height, width, estimator.SPLATS, bool(options.aov))
+    memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features)
                  + scene_part, width, height, scene=scene_part, objects=len(scene.objects))
 
 
@@ -164,7 +165,7 @@ class Renderer:
             options = RenderOptions.named("Renderer", "path", **fields)
         elif fields:
             raise TypeError("Renderer: give options or fields, not both")
-        self.options = options
+        self.options = options = options.for_scene(scene)     # the default, named
         _check_memory(scene, options)
         self.frame = freeze(scene, options)
         self.width, self.height = self.frame.width, self.frame.height
@@ -240,7 +241,14 @@ class Renderer:
         films.merge(self.film, film)
         self.spp = spp
 
-    def result(self, *, spp_requested=None, interrupted=False, threads=None, stopped_by=None):
+    def result(self, *, spp_requested=None, interrupted=False, threads=None, stopped_by=None,
+               denoise=None):
+        """The RenderResult of the samples so far; denoise (None: the options')
+        adds the image denoised by Open Image Denoise (denoise.py) beside it."""
+        denoise = self.options.denoise if denoise is None else denoise
+        if denoise and not self.frame.aov:
+            raise SceneError("result: denoise: this renderer keeps no feature images; "
+                             "make it with denoise=True (or aov=...)")
         image, stderr = films.mean_and_stderr(self.film, self.spp)
         fireflies, firefly_energy = films.firefly_stats(self.film, float(image.mean()))
         row_stats = self.film.row_stats
@@ -256,10 +264,13 @@ class Renderer:
             seed=self.frame.params.seed, fireflies=fireflies, firefly_energy=firefly_energy,
             clamp=None if math.isinf(clamp) else clamp,
             stopped_by=stopped_by if interrupted else None,
-            partial_rows=self.rows_done, partial_spp=self.band)
+            partial_rows=self.rows_done, partial_spp=self.band, sampling=self.options.sampling)
         wanted = self.options.aov or ()
         samples = np.full(self.height, self.spp)
         samples[self.frame.rows[:self.rows_done]] += self.band     # a pass over part of the rows
-        return RenderResult(image, stats, stderr, {k: v for k, v in
-                                                   films.features(self.film, samples).items()
-                                                   if k in wanted})
+        features = films.features(self.film, samples)
+        denoised = None
+        if denoise:
+            denoised, stats.denoise_seconds = denoise_image(image, **features)
+        return RenderResult(image, stats, stderr, {k: v for k, v in features.items()
+                                                   if k in wanted}, denoised)

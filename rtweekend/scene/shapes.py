@@ -44,6 +44,19 @@ class Shape:
         return any(self.velocity)
 
     @property
+    def area(self):
+        """Surface area (placement keeps it: rotate_y and translate are rigid)."""
+        g = self.geometry
+        if self.kind == "sphere":
+            return 4.0 * math.pi * g[1] * g[1]
+        if self.kind == "quad":
+            return float(np.linalg.norm(np.cross(g[1], g[2])))
+        if self.kind == "box":
+            a, b, c = (abs(hi - lo) for lo, hi in zip(g[0], g[1]))
+            return 2.0 * (a * b + b * c + c * a)
+        return (g[1] - g[0]) * (g[3] - g[2])        # xy/xz/yz_rect: (a0, a1, b0, b1, k)
+
+    @property
     def label(self):
         return label("constant_medium" if self.medium else self.kind, self.name)
 

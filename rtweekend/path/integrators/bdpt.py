@@ -203,26 +203,30 @@ def to_camera(scene, params, film, cf, ci, lf, li, s, source, media, time, smp):
 
 @jit_step
 def first_seen(scene, cf, ci, n, escaped, d, beta):
-    """The feature images' (albedo, normal) of the first camera vertex that is no
-    mirror or glass (as the path tracer's): beta x its albedo (a light's
-    radiance capped at 1, 0 from its back), the normal facing the ray."""
+    """The feature images' (albedo, normal, emission) of the first camera vertex
+    that is no mirror or glass (as the path tracer's): beta x its albedo (a
+    light's radiance capped at 1, 0 from its back), the normal facing the ray,
+    and beta x the light it emits (its s = 0 strategy, whose MIS weight is 1
+    when only mirrors and glass lie before it)."""
     for i in range(1, n):
         if ci[i, DELTA] == 0:
             towards, _ = toward(col(cf, i, P), col(cf, i - 1, P))
             c = col(cf, i, COLOR)
             if ci[i, TYPE] == MEDIUM:
-                return mul(col(cf, i, BETA), c), towards
+                return mul(col(cf, i, BETA), c), towards, ZERO
             normal = col(cf, i, NG)
             facing = dot(normal, towards) > 0.0
             if not facing:
                 normal = neg(normal)
             if ci[i, MKIND] == DIFFUSE_LIGHT:
+                light = mul(col(cf, i, BETA), c) if facing else ZERO
                 c = (min(c[0], 1.0), min(c[1], 1.0), min(c[2], 1.0)) if facing else ZERO
-            return mul(col(cf, i, BETA), c), normal
+                return mul(col(cf, i, BETA), c), normal, light
+            return mul(col(cf, i, BETA), c), normal, ZERO
     if escaped:
         e = background(scene, d)
-        return mul(beta, (min(e[0], 1.0), min(e[1], 1.0), min(e[2], 1.0))), ZERO
-    return ZERO, ZERO
+        return mul(beta, (min(e[0], 1.0), min(e[1], 1.0), min(e[2], 1.0))), ZERO, mul(beta, e)
+    return ZERO, ZERO, ZERO
 
 
 @jit_step
@@ -274,8 +278,9 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, cf, ci, 
             if params.only_s >= 0:          # the sky: strategy (0, nc + 1) alone
                 radiance = scale(radiance, alone(params, 0, nc + 1))
             if want:
-                albedo, normal = first_seen(scene, cf, ci, nc, escaped, d, beta)
+                albedo, normal, light = first_seen(scene, cf, ci, nc, escaped, d, beta)
                 films.add_features(film, y, x, albedo, normal)
+                films.add_emission(film, y, x, light)
             nl = 0
             if has_lights:
                 nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)

@@ -157,8 +157,9 @@ def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x, l
     """The radiance along the camera ray (o, d): (radiance, seen, segments, smp),
     seen being what the camera ray saw emitted (no firefly: film.py).  When
     `looking` (the film keeps feature images), the albedo and normal of what the
-    path first sees through mirrors and glass go to pixel (x, y) of the film
-    there and then (nothing more to carry round the loop)."""
+    path first sees through mirrors and glass, and the light it emits, go to
+    pixel (x, y) of the film there and then (nothing more to carry round the
+    loop)."""
     use_lights = scene.lights.shape[0] > 0 and params.light_weight > 0.0
     radiance, seen, beta = ZERO, ZERO, ONE
     # np.int64 / np.bool_: typed as plain int64 and bool from the start, not as
@@ -203,10 +204,12 @@ def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x, l
             if looking:
                 films.add_features(film, y, x, mul(beta, (min(e[0], 1.0), min(e[1], 1.0),
                                                           min(e[2], 1.0))), ZERO)
+                films.add_emission(film, y, x, mul(beta, e))
             break
         hit = surface_at(scene, textures, k, o, d, t, time)
         bsdf = materials.at(scene, hit)
-        if looking and not materials.delta(bsdf):
+        first = looking and not materials.delta(bsdf)
+        if first:
             albedo, normal = first_seen(bsdf, hit, beta)
             films.add_features(film, y, x, albedo, normal)
             looking = False
@@ -216,6 +219,8 @@ def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x, l
             radiance = add(radiance, scale(mul(beta, e), w))
             if depth == 0:
                 seen = e
+            if first:                   # through mirrors and glass only: weight 1
+                films.add_emission(film, y, x, scale(mul(beta, e), w))
         if not materials.scatters(bsdf):
             break
         wo = neg(d)
