@@ -105,7 +105,15 @@ def build_parser():
     return parser
 
 
+def _warn_in_one_line(message, category, filename, lineno, file=None, line=None):
+    """Warnings (SceneWarning: a scene that renders but looks unintended) as the
+    command's other messages: one line on stderr; the render goes on."""
+    print(f"rtweekend: warning: {message}", file=sys.stderr)
+
+
 def main(argv=None):
+    import warnings
+    warnings.showwarning = _warn_in_one_line
     args = build_parser().parse_args(argv)
     try:
         if args.command == "scenes":

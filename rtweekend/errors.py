@@ -10,6 +10,10 @@ class SceneError(ValueError):
     """
 
 
+class SceneWarning(UserWarning):
+    """A scene that renders, but not as its author likely meant (one line)."""
+
+
 class FieldError(Exception):
     """Internal: a bad value for one field; becomes a SceneError with context."""
 

@@ -414,3 +414,51 @@ def test_unknown_scene_hints_at_the_file(tmp_path, capsys, monkeypatch):
     assert "unknown scene 'book1' (did you mean the file 'book1.toml'?)" in err[0]
     status, err = run_cli(tmp_path, capsys, "render", "cornel_box", "-q")
     assert "(did you mean 'cornell_box'?)" in err[0]
+
+
+# -- what a newcomer tripped on ----------------------------------------------------
+
+def test_a_misspelled_required_field_is_named(tmp_path, capsys, scene_file):
+    path = scene_file(GOOD.replace('radius = 1\nmaterial = "white"',
+                                   'radius = 1\nmaterail = "white"'))
+    status, err = run_cli(tmp_path, capsys, "render", str(path), "-o", str(tmp_path / "x.png"))
+    assert status == 2 and len(err) == 1
+    assert err[0].endswith("objects[0] (sphere 'ball'): material: missing (required); "
+                           "is 'materail' a misspelling of it?")
+    assert not (tmp_path / "x.png").exists()
+
+
+def test_the_expected_fields_are_listed_once(tmp_path, capsys, scene_file):
+    path = scene_file(GOOD.replace("radius = 1\n", "radius = 1\ncolour = 2\n", 1))
+    status, err = run_cli(tmp_path, capsys, "render", str(path))
+    assert status == 2 and len(err) == 1
+    listed = err[0].split("expected one of: ")[1].split(", ")
+    assert len(listed) == len(set(listed)) and "material" in listed
+
+
+def test_a_binary_file_is_not_a_scene_file(tmp_path, capsys):
+    path = tmp_path / "photo.toml"
+    path.write_bytes(bytes([0xd3, 0x00, 0xff, 0x10]))
+    status, err = run_cli(tmp_path, capsys, "render", str(path))
+    assert status == 2
+    assert err == [f"rtweekend: error: {path}: not a scene file: it is not text (UTF-8); "
+                   "scene files are TOML (docs/scenes.md)"]
+
+
+def test_an_output_folder_says_to_name_a_file(tmp_path, capsys):
+    status, err = run_cli(tmp_path, capsys, "render", "cornell_box", "-o", str(tmp_path))
+    assert status == 2 and len(err) == 1
+    assert f"{tmp_path}: cannot write: it is a folder; name a file in it" in err[0]
+
+
+def test_a_lights_list_without_emitters_is_warned_about_and_renders(tmp_path, capsys,
+                                                                   scene_file):
+    path = scene_file(GOOD.replace('lights = ["lamp"]', 'lights = ["ball"]'))
+    out = tmp_path / "x.png"
+    status, err = run_cli(tmp_path, capsys, "render", str(path), "-o", str(out), "-q")
+    assert status == 0 and out.exists()
+    assert err == ["rtweekend: warning: lights: names no emitter (sphere 'ball'), while "
+                   "xz_rect 'lamp' emits: the light pdf aims at objects that give no light; "
+                   "list the emitters too"]
+    with pytest.warns(rt.SceneWarning, match="names no emitter"):
+        rt.Renderer(rt.load_scene(path), spp=1)

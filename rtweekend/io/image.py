@@ -29,6 +29,9 @@ def check_output_path(path):
     """Raise SceneError unless `path` has a known extension and a writable folder."""
     path = Path(path)
     ext = path.suffix.lower()
+    if path.is_dir():
+        raise SceneError(f"{path}: cannot write: it is a folder; name a file in it, such "
+                         f"as {path / 'image.png'}")
     if ext not in FORMATS:
         raise SceneError(f"{path}: unknown output extension '{path.suffix}'; "
                          f"use one of {', '.join(FORMATS)}")
@@ -42,8 +45,6 @@ def check_output_path(path):
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
         raise SceneError(f"{path}: cannot write: folder '{folder}' does not exist")
-    if path.is_dir():
-        raise SceneError(f"{path}: cannot write: it is a folder")
     try:
         # Permission bits do not tell the whole story (root, read-only mounts,
         # /sys): create and remove the temporary file the write will use.

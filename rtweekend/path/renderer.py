@@ -10,6 +10,7 @@ machine, the Dask one (distributed/) by merging blocks rendered elsewhere.
 """
 import math
 import time as _time
+import warnings
 from typing import NamedTuple
 
 import numba
@@ -18,7 +19,7 @@ import numpy as np
 from ..kernel.jit import collector_paused
 from .. import checks, memory
 from ..denoise import denoise as denoise_image
-from ..errors import FieldError, SceneError
+from ..errors import FieldError, SceneError, SceneWarning
 from ..kernel.rows import interleaved_rows, on_threads
 from ..options import RenderOptions, thread_count
 from ..result import RenderResult, RenderStats
@@ -166,6 +167,8 @@ class Renderer:
         elif fields:
             raise TypeError("Renderer: give options or fields, not both")
         self.options = options = options.for_scene(scene)     # the default, named
+        for doubt in scene.doubts():
+            warnings.warn(doubt, SceneWarning, stacklevel=2)
         _check_memory(scene, options)
         self.frame = freeze(scene, options)
         self.width, self.height = self.frame.width, self.frame.height

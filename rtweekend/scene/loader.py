@@ -62,8 +62,11 @@ def resolve(name_or_path):
             return str(path), path.read_text(encoding="utf-8")
         except FileNotFoundError:
             raise SceneError(f"{path}: no such scene file") from None
-        except (OSError, UnicodeDecodeError) as e:
-            raise SceneError(f"{path}: cannot read: {e}") from None
+        except UnicodeDecodeError:
+            raise SceneError(f"{path}: not a scene file: it is not text (UTF-8); scene "
+                             "files are TOML (docs/scenes.md)") from None
+        except OSError as e:
+            raise SceneError(f"{path}: cannot read: {e.strerror or e}") from None
     entry = bundled_dir() / f"{name_or_path}.toml"
     if not entry.is_file():
         known = list(bundled_scenes())
@@ -113,8 +116,17 @@ def did_you_mean(word, candidates):
 
 
 def _unknown(key, allowed):
+    allowed = list(dict.fromkeys(allowed))           # each name once
     return f"unknown field '{key}'{did_you_mean(key, allowed)}; expected one of: " \
         + ", ".join(allowed)
+
+
+def _missing(key, given):
+    """"KEY: missing (required)", naming a given field that looks like a
+    misspelling of it (materail for material)."""
+    close = difflib.get_close_matches(key, [g for g in given if g != key], n=1, cutoff=0.75)
+    return f"{key}: missing (required)" + (f"; is '{close[0]}' a misspelling of it?"
+                                           if close else "")
 
 
 class _Loader:
@@ -286,7 +298,7 @@ class _Loader:
                 raise self.fail(what, _unknown(key, list(extra_keys) + allowed))
         for p in params:
             if p.default is inspect.Parameter.empty and p.name not in args:
-                raise self.fail(what, f"{p.name}: missing (required)")
+                raise self.fail(what, _missing(p.name, args))
 
     def call(self, builder, args, extra_keys, what, name=None):
         """Call builder.raw with the table's fields, checking names first."""
@@ -308,7 +320,7 @@ class _Loader:
         self.check_type(kind, what, [*SHAPES, "constant_medium"], "an object")
         what = f"{what} ({label(kind, name)})"
         if "material" not in spec:
-            raise self.fail(what, "material: missing (required)")
+            raise self.fail(what, _missing("material", spec))
         mat = spec["material"]
         if mat is _BOUNDARY_MATERIAL:
             pass
@@ -339,7 +351,7 @@ class _Loader:
         self.check_keys(spec, MEDIUM_KEYS, what)
         for key in ("boundary", "density", "albedo"):
             if key not in spec:
-                raise self.fail(what, f"{key}: missing (required)")
+                raise self.fail(what, _missing(key, spec))
         boundary = dict(self.table(spec["boundary"], f"{what} boundary"))
         if "material" in boundary:
             raise self.fail(f"{what} boundary", "material: a medium's boundary is invisible "

@@ -130,3 +130,18 @@ class Scene:
                                  "invisible, and only surfaces can be sampled as lights")
         if not self.objects:
             raise SceneError("objects: the scene has no objects")
+
+    def doubts(self):
+        """One-line warnings about a valid scene that may not be what its author
+        meant: a lights list that names none of the scene's emitters, whose
+        samples then aim where no light comes from (fireflies from the rest)."""
+        out = []
+        shapes = [light for light in self.lights if isinstance(light, Shape)]
+        emitters = [s for s in self.objects if s.material.kind == "diffuse_light"]
+        if shapes and emitters and not any(s.material.kind == "diffuse_light" for s in shapes):
+            out.append(f"lights: names no emitter ({', '.join(s.label for s in shapes)}), "
+                       f"while {', '.join(s.label for s in emitters[:3])}"
+                       f"{' and others' if len(emitters) > 3 else ''} "
+                       f"{'emit' if len(emitters) > 1 else 'emits'}: the light pdf aims at "
+                       "objects that give no light; list the emitters too")
+        return out
