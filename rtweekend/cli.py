@@ -68,8 +68,10 @@ def build_parser():
                         "(default: the scene's)")
     budget.add_argument("--time", type=_option("time", float), metavar="SECONDS",
                         help="render passes until this many seconds are spent")
-    r.add_argument("--width", type=_option("width"), help="image width (default: the scene's)")
-    r.add_argument("--height", type=_option("height"), help="image height (default: the scene's)")
+    r.add_argument("--width", type=_option("width"), help="image width (default: the scene's; "
+                   "alone, the height follows the scene's aspect ratio)")
+    r.add_argument("--height", type=_option("height"), help="image height (default: the "
+                   "scene's; alone, the width follows)")
     r.add_argument("--seed", type=_option("seed"), default=0, help="random seed (default 0)")
     # 0 is the classic ray tracer's (no reflections); render() rejects it for the path tracer.
     r.add_argument("--max-depth", type=_option("max_depth", integrator="classic"),

@@ -222,6 +222,24 @@ class RenderOptions:
             return self
         return dataclasses.replace(self, sampling=default_sampling(scene))
 
+    def image_size(self, camera):
+        """(width, height) of the image: the options', the camera's where not
+        given; one side alone keeps the camera's aspect ratio."""
+        w, h = self.width, self.height
+        if w is not None and h is None:
+            h = max(1, round(w * camera.height / camera.width))
+        elif h is not None and w is None:
+            w = max(1, round(h * camera.width / camera.height))
+        return (camera.width, camera.height) if w is None else (w, h)
+
+    def sized(self, scene):
+        """`scene` with its camera at image_size."""
+        camera = scene.resolved_camera()
+        w, h = self.image_size(camera)
+        if (w, h) == (camera.width, camera.height):
+            return scene
+        return scene.with_camera(width=w, height=h)
+
     @property
     def clamp_value(self):
         return math.inf if self.clamp is None else float(self.clamp)

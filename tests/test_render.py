@@ -185,3 +185,12 @@ def test_the_default_sampling_follows_from_what_the_scene_holds():
     assert used(box) == "bdpt+sobol"
     box.lights.append(ball)                         # the mixture aims at it: its own way
     assert used(box) == "mixture+sobol"
+
+
+def test_one_side_of_the_image_keeps_the_cameras_aspect_ratio():
+    metals = rt.load_scene("metals")                  # 400x225
+    assert rt.render(metals, spp=1, width=100).image.shape == (56, 100, 3)
+    assert rt.render(metals, spp=1, height=45).image.shape == (45, 80, 3)
+    assert rt.render(metals, spp=1, width=30, height=30).image.shape == (30, 30, 3)
+    r = rt.Renderer(metals, width=1, seed=0)          # never below one pixel
+    assert (r.width, r.height) == (1, 1)

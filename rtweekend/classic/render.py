@@ -30,10 +30,7 @@ def classic_spheres(scene):
 def render_classic(scene, options):
     """Render a classic scene with validated RenderOptions (width, height,
     max_depth, threads): one ray per pixel, no tone map."""
-    changes = {k: v for k, v in (("width", options.width), ("height", options.height))
-               if v is not None}
-    if changes:
-        scene = scene.with_camera(**changes)
+    scene = options.sized(scene)          # one side alone keeps the aspect ratio
     scene.check()
     camera = scene.resolved_camera()
     w, h = camera.width, camera.height

@@ -56,10 +56,7 @@ SOBOL_PAIRS = 2
 
 def freeze(scene, options):
     """The Frame for rendering `scene` with validated RenderOptions."""
-    changes = {k: v for k, v in (("width", options.width), ("height", options.height))
-               if v is not None}
-    if changes:
-        scene = scene.with_camera(**changes)
+    scene = options.sized(scene)          # one side alone keeps the aspect ratio
     arrays = pack_scene(scene, bvh=options.bvh)
     strategy = options.strategy
     next_event = strategy.next_event and len(arrays.emitters) > 0
@@ -147,7 +144,7 @@ def _check_memory(scene, options):
     line, nothing done (memory.py)."""
     scene.check()
     camera = scene.resolved_camera()
-    width, height = options.width or camera.width, options.height or camera.height
+    width, height = options.image_size(camera)
     estimator = ESTIMATORS[options.strategy.estimator]
     scene_part = scene_bytes(scene)
     memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features)
