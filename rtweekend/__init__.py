@@ -15,7 +15,7 @@ api.py, which ties them together.  docs/architecture.md walks through it.
 """
 from .api import render
 from .errors import SceneError, SceneWarning
-from .io.image import save_image
+from .io.image import save_image, tonemap
 from .path.renderer import Renderer
 from .result import RenderResult, RenderStats
 from .version import version as _version
@@ -27,7 +27,7 @@ from .scene import (SKY, Camera, ClassicCamera, Scene, ambient, box, bundled_sce
 __version__ = _version()
 
 __all__ = [
-    "SceneError", "SceneWarning", "load_scene", "bundled_scenes", "save_image",
+    "SceneError", "SceneWarning", "load_scene", "bundled_scenes", "save_image", "tonemap",
     "render", "Renderer", "RenderResult", "RenderStats", "Scene", "Camera", "SKY",
     "lambertian", "metal", "dielectric", "diffuse_light",
     "sphere", "xy_rect", "xz_rect", "yz_rect", "box", "quad", "constant_medium", "isotropic",

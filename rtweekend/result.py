@@ -113,3 +113,29 @@ class RenderResult:
 
     def __repr__(self):
         return f"RenderResult({self.stats.summary()})"
+
+    # -- in Jupyter: the image, tone-mapped as the PNG writer does ----------------
+    def caption(self):
+        """One line under the image: size, spp, seconds, samples/s and the
+        standard error relative to the image's mean."""
+        s = self.stats
+        if s.integrator == "classic":
+            return f"{s.width}x{s.height}, classic ray tracer, {s.seconds:.2f} s"
+        mean = float(self.image.mean())
+        rel = float(self.stderr[self.stderr < float("inf")].mean()) / mean if mean > 0 else 0.0
+        return (f"{s.width}x{s.height}, {s.spp} spp, {s.sampling or 'path'}, {s.seconds:.2f} s, "
+                f"{s.samples_per_s / 1e6:.2f} M samples/s, standard error {100 * rel:.1f}% "
+                "of the mean")
+
+    def _repr_png_(self):
+        """The PNG of save_image(self, "x.png"): tonemap(self.image)."""
+        from .io.image import encode
+        return encode(self.image, ".png")
+
+    def _repr_html_(self):
+        import base64
+        import html
+        png = base64.b64encode(self._repr_png_()).decode("ascii")
+        return (f'<figure style="margin:0"><img src="data:image/png;base64,{png}" '
+                f'style="image-rendering:pixelated"/><figcaption>'
+                f"{html.escape(self.caption())}</figcaption></figure>")

@@ -68,3 +68,25 @@ def test_wrong_shape_writes_nothing(tmp_path):
     with pytest.raises(rt.SceneError, match="HxWx3"):
         rt.save_image(np.zeros((4, 4)), tmp_path / "a.png")
     assert os.listdir(tmp_path) == []
+
+
+def test_a_result_shows_itself_as_its_tone_mapped_png():
+    r = rt.render(rt.load_scene("cornell_box"), spp=2, width=20, height=12, seed=1)
+    shown = iio.imread(r._repr_png_())
+    assert np.array_equal(shown, rt.tonemap(r.image))
+    html = r._repr_html_()
+    assert html.startswith("<figure") and "data:image/png;base64," in html
+    assert "20x12, 2 spp, mixture+sobol" in html and "standard error" in html
+
+
+def test_tonemap_is_the_books_and_exposure_scales_the_radiance_first():
+    image = np.array([[[0.0, 0.25, 1.0], [4.0, np.nan, -1.0]]])
+    assert rt.tonemap(image).tolist() == [[[0, 128, 255], [255, 0, 0]]]
+    assert rt.tonemap(image, exposure=4.0)[0, 0].tolist() == [0, 255, 255]
+
+
+def test_a_scene_shows_itself_in_one_line():
+    text = repr(rt.load_scene("cornell_glass"))
+    assert text == ("Scene('cornell_glass', 600x600, 8 objects: 5 lambertian, "
+                    "1 diffuse_light, 1 metal, 1 dielectric; 2 in lights)")
+    assert "\n" not in repr(rt.load_scene("next_week_final"))

@@ -40,6 +40,24 @@ class Scene:
     name: str = "scene"
     integrator: str | None = None  # "path", "classic", or None: from the contents
 
+    def __repr__(self):
+        """One line: name, size, what it holds (the dataclass's dump is pages)."""
+        try:
+            camera = self.resolved_camera()
+            size = f"{camera.width}x{camera.height}"
+        except SceneError:
+            size = "no camera"
+        kinds = {}
+        for shape in self.objects:
+            kind = "constant_medium" if shape.medium else shape.material.kind
+            kinds[kind] = kinds.get(kind, 0) + 1
+        held = ", ".join(f"{n} {k}" for k, n in kinds.items()) or "nothing"
+        moving = sum(shape.moving for shape in self.objects)
+        textured = sum(shape.material.texture is not None for shape in self.objects)
+        extras = [f"{moving} moving"] * bool(moving) + [f"{textured} textured"] * bool(textured)
+        return (f"Scene({self.name!r}, {size}, {len(self.objects)} objects: {held}"
+                f"{'; ' + ', '.join(extras) if extras else ''}; {len(self.lights)} in lights)")
+
     def add(self, shape, light=False):
         """Add a shape (and, with light=True, to the lights the pdf samples)."""
         if not isinstance(shape, Shape):
