@@ -20,6 +20,19 @@ from .options import SAMPLINGS
 DEFAULT_SCENE = "cornell_glass"
 EXIT_BAD_INPUT = 2
 EXIT_INTERRUPTED = 130
+RENDER_EPILOG = """\
+examples:
+  rtweekend render                          cornell_glass to ./cornell_glass.png
+  rtweekend render cornell_box --spp 16 -o box.png
+  rtweekend render weekend --width 600 --time 30      (the height keeps the aspect)
+  rtweekend render my_scene.toml -o out.exr --denoise --aov albedo,normal
+  rtweekend scenes                          the bundled scenes, a line each
+
+The image goes to SCENE.png in the current folder unless -o says otherwise.
+Ctrl-C finishes the pass under way, writes what was rendered and exits with
+status 130; a second Ctrl-C stops at once and writes nothing.  Bad input: one
+line on stderr and status 2, before anything is rendered.  Scene files:
+docs/scenes.md."""
 
 
 class _Parser(argparse.ArgumentParser):
@@ -57,7 +70,8 @@ def build_parser():
     parser.add_argument("--version", action="version", version=f"rtweekend {version()}")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     r = sub.add_parser("render", help="render a scene to an image",
-                       description="Render a scene file or a bundled scene.")
+                       description="Render a scene file or a bundled scene.",
+                       epilog=RENDER_EPILOG, formatter_class=argparse.RawDescriptionHelpFormatter)
     r.add_argument("scene", nargs="?", default=DEFAULT_SCENE,
                    help=f"a .toml file or a bundled scene name (default: {DEFAULT_SCENE})")
     r.add_argument("-o", "--output", help=f"output image, by extension: {', '.join(LDR)} "

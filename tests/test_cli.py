@@ -98,3 +98,11 @@ def test_ctrl_c_keeps_the_passes_rendered(tmp_path):
     image = np.load(out)
     assert image.shape == (64, 64, 3) and np.isfinite(image).all() and image.mean() > 0
     assert [f.name for f in tmp_path.iterdir()] == ["partial.npy"]
+
+
+def test_render_help_has_examples_ctrl_c_and_exit_status():
+    r = run("render", "--help")
+    assert r.returncode == 0
+    assert "examples:" in r.stdout and "rtweekend render cornell_box --spp 16" in r.stdout
+    assert "status 130" in r.stdout and "status 2" in r.stdout
+    assert "SCENE.png in the current folder" in r.stdout
