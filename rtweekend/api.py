@@ -17,7 +17,7 @@ from .scene import Scene
 
 def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
            max_depth=None, threads=None, sampling=None, progress=False, bvh=None,
-           clamp=None, client=None, aov=None, denoise=False):
+           clamp=None, client=None, aov=None, denoise=False, preview=False):
     """Render `scene`; returns RenderResult, which unpacks as (image, stats).
 
     A classic (Computer Graphics from Scratch) scene is ray traced once per
@@ -49,6 +49,8 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     denoise: also denoise the image with Open Image Denoise (pip install
     'rtweekend[denoise]'), fed with those features: result.denoised, beside the
     unbiased result.image; the light seen emitted is kept out of the filter.
+    preview: in a Jupyter notebook, show the image as it renders, updated in
+    place (a local render; the image is the same bits without it).
     """
     if not isinstance(scene, Scene):
         raise SceneError(f"render: expected a Scene (rt.load_scene or rt.Scene), "
@@ -59,7 +61,7 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     options = RenderOptions(integrator, spp=spp, time=time, seed=seed, width=width,
                             height=height, max_depth=max_depth, threads=threads,
                             sampling=sampling, clamp=clamp, bvh=bvh, aov=aov,
-                            denoise=denoise or None,
+                            denoise=denoise or None, preview=preview or None,
                             progress=progress)
     if integrator == "classic":
         return render_classic(scene, options)
@@ -67,5 +69,7 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     if spp is None and time is None:
         spp = scene.spp
     if client is not None:
+        if preview:
+            raise SceneError("render: preview: shows a local render; not with a client")
         return dask_driver.render_on_cluster(client, renderer, spp, time)
     return render_locally(renderer, spp, time)

@@ -12,6 +12,7 @@ import time as _time
 
 import numba
 
+from .io.preview import NotebookPreview
 from .io.progress import Progress, StopOnInterrupt
 from .kernel.calls import Abandoned, call_awake
 from .path.integrators import ESTIMATORS
@@ -30,6 +31,7 @@ def render_locally(renderer, spp, time):
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt at once.
     """
     report = Progress(renderer.options.progress, spp, time)
+    preview = NotebookPreview() if renderer.options.preview else None
     threads = renderer.options.threads or numba.get_num_threads()
     interrupted = False
     compiled = False
@@ -37,7 +39,7 @@ def render_locally(renderer, spp, time):
         with StopOnInterrupt() as stop:
             misses = _compiles()
             try:
-                call_awake(renderer.compile, stop, abandon=True)
+                call_awake(renderer.compile, stop, abandon=True, tick=report.tick)
             except Abandoned:
                 renderer.compile_seconds = _time.perf_counter() - report.t0
                 interrupted = True
@@ -53,6 +55,8 @@ def render_locally(renderer, spp, time):
                         call_awake(lambda: renderer.add_rows(n, rows), stop)
                     passes, last = passes + 1, n * rows
                     report.update(renderer, passes)
+                    if preview is not None:
+                        preview.update(renderer)
                     if stop.requested:
                         interrupted = spp is None or renderer.spp < spp
                         break
@@ -61,6 +65,8 @@ def render_locally(renderer, spp, time):
     result = renderer.result(spp_requested=spp, interrupted=interrupted,
                              stopped_by="Ctrl-C")
     result.stats.compiled = compiled
+    if preview is not None:
+        preview.show(result)             # the last image stays shown, Ctrl-C or not
     return result
 
 

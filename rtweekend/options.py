@@ -79,7 +79,7 @@ SPECULAR_DEFAULT = "bdpt+sobol"
 SPECULAR = ("metal", "dielectric")
 SPECULAR_SHARE = 0.02
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.
-PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh", "aov", "denoise")
+PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh", "aov", "denoise", "preview")
 # Feature images a path-traced render can add (film.py: for denoisers).
 AOVS = ("albedo", "normal", "emission")
 # The numeric options (checks.option holds each one's rule).
@@ -100,6 +100,7 @@ class RenderOptions:
     normal of what each pixel's paths first see through mirrors and glass, and
     the light they see emitted there.
     denoise: also make the image denoised by Open Image Denoise (denoise.py).
+    preview: show the image as it renders, in a Jupyter notebook (io/preview.py).
     progress: True for a bar on stderr, a callable, or False.
     """
     integrator: str = "path"
@@ -115,6 +116,7 @@ class RenderOptions:
     bvh: bool | None = None
     aov: tuple | None = None
     denoise: bool | None = None
+    preview: bool | None = None
     progress: object = False
 
     def __post_init__(self):
@@ -139,6 +141,12 @@ class RenderOptions:
             raise SceneError(f"render: bvh: must be True, False or None, got {self.bvh!r}")
         self._check_aov()
         self._check_denoise()
+        if self.preview is not None:
+            if not isinstance(self.preview, bool):
+                raise SceneError(f"render: preview: must be True or False, got {self.preview!r}")
+            if self.preview:
+                from .io.preview import require
+                require()
 
     def _check_denoise(self):
         """denoise: a bool; with it, paths from the camera, and OIDN installed."""

@@ -212,7 +212,8 @@ def test_the_command_with_workers_writes_the_local_image(tmp_path):
               "--seed", "3", "-q"]
     far, _ = run(*common, "-o", str(tmp_path / "far.npy"), "--workers", "2")
     assert far.returncode == 0, far.stderr
-    assert far.stderr == ""
+    assert far.stderr in ("", "rtweekend: warning: --workers 2 on 1 cores: the worker "
+                              "processes share them, no faster than 1\n")
     assert far.stdout.strip().splitlines()[-1].startswith(
         f"{tmp_path / 'far.npy'}: 24x16, 20 spp")
     local, _ = run(*common, "-o", str(tmp_path / "local.npy"))
@@ -286,3 +287,13 @@ def test_a_lost_cluster_keeps_the_blocks_merged(tmp_path, cornell_box):
         "rendered"]
     local = rt.render(cornell_box, spp=spp, width=32, height=32, seed=6)
     assert np.array_equal(np.load(out), local.image)
+
+
+def test_more_workers_than_cores_is_warned_about():
+    # The warning comes first (then the classic scene is refused: no cluster starts).
+    many = (os.cpu_count() or 1) + 1
+    with pytest.warns(rt.SceneWarning, match=f"--workers {many} on .* cores: the worker "
+                                              "processes share them"):
+        with pytest.raises(ClusterError, match="classic scene"):
+            with dask_client(rt.load_scene("cgfs"), workers=many):
+                pass

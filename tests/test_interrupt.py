@@ -311,3 +311,12 @@ def test_help_lists_every_format_written():
 def test_docs_state_the_coordinate_bounds():
     text = (REPO / "docs" / "scenes.md").read_text()
     assert "1e100" in text and "1e-100" in text
+
+
+def test_the_compile_clock_ticks_while_the_kernel_thread_works():
+    # A cold compile takes seconds in the kernel thread; the waiting thread
+    # calls tick (the bar's redraw) meanwhile, so the clock runs.
+    from rtweekend.kernel.calls import POLL, call_awake
+    ticks = []
+    assert call_awake(lambda: time.sleep(6 * POLL) or 7, tick=lambda: ticks.append(1)) == 7
+    assert len(ticks) >= 3

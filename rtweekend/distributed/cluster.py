@@ -3,9 +3,11 @@
 Dask is imported only when a cluster is asked for (pip install 'rtweekend[dask]').
 """
 import logging
+import os
+import warnings
 from contextlib import contextmanager
 
-from ..errors import SceneError
+from ..errors import SceneError, SceneWarning
 
 INSTALL = "pip install 'rtweekend[dask]'"
 CONNECT_TIMEOUT = 5.0       # seconds for a scheduler to answer
@@ -61,6 +63,10 @@ def dask_client(scene=None, *, scheduler=None, workers=None, threads=None,
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int)
                                 or workers < 1):
         raise ClusterError(f"render: workers must be an integer >= 1, got {workers!r}")
+    cores = os.cpu_count() or 1
+    if workers is not None and workers > cores:
+        warnings.warn(f"--workers {workers} on {cores} cores: the worker processes share "
+                      f"them, no faster than {cores}", SceneWarning, stacklevel=3)
     if scene is not None:
         check_render(scene, threads)
     distributed = distributed_module()

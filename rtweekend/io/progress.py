@@ -46,11 +46,21 @@ class Progress:
         self.callback = progress if callable(progress) else None
         self.spp, self.time = spp, time
         self.t0 = time_.perf_counter()
+        self._drawn = 0.0              # when tick() last redrew the bar
         self.bar = None
         if progress is True:
-            from tqdm import tqdm
+            tqdm = _tqdm()
             self.bar = tqdm(total=None, desc="compiling", leave=False, dynamic_ncols=True,
                             file=sys.stderr, bar_format="{desc} ({elapsed})")
+
+    def tick(self):
+        """While compiling: redraw the bar twice a second, so that its clock
+        runs (a cold compile takes 6-13 s: a frozen 00:00 looks hung)."""
+        if self.bar is not None:
+            now = time_.perf_counter()
+            if now - self._drawn >= 0.5:
+                self._drawn = now
+                self.bar.refresh()
 
     def started(self):
         """Compiling is over: restart the bar's clock so its rate is honest."""
@@ -78,3 +88,18 @@ class Progress:
     def close(self):
         if self.bar is not None:
             self.bar.close()
+
+
+def _tqdm():
+    """tqdm's notebook widget in Jupyter (when ipywidgets is there), else its
+    text bar on stderr."""
+    from .preview import in_notebook
+    if in_notebook():
+        try:
+            import ipywidgets  # noqa: F401
+            from tqdm.notebook import tqdm
+            return tqdm
+        except ImportError:
+            pass
+    from tqdm import tqdm
+    return tqdm

@@ -55,13 +55,14 @@ def _submit(job):
     _JOBS.put(job)
 
 
-def call_awake(fn, stop=None, *, abandon=False):
+def call_awake(fn, stop=None, *, abandon=False, tick=None):
     """fn() in the worker thread with this thread's Numba thread count; returns
     its value (or raises its exception).
 
     stop: a StopOnInterrupt; its handler runs while this thread waits, so a
     second Ctrl-C raises KeyboardInterrupt at once.  With abandon=True the
     first Ctrl-C (stop.requested) raises Abandoned instead of waiting for fn.
+    tick: called while waiting, every POLL seconds (a progress line's clock).
     """
     threads = numba.get_num_threads()      # thread-local in Numba: pass it on
     box = {}
@@ -81,6 +82,8 @@ def call_awake(fn, stop=None, *, abandon=False):
     _submit(work)
     try:
         while not done.wait(POLL):
+            if tick is not None:
+                tick()
             if abandon and stop is not None and stop.requested:
                 box["abandoned"] = True
                 raise Abandoned

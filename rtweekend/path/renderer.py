@@ -176,6 +176,7 @@ class Renderer:
         self.seconds = 0.0         # time spent in passes
         self.compile_seconds = 0.0
         self.threads = None        # Numba threads of the last pass here
+        self._preview = None       # show()'s display in a notebook
 
     def compile(self):
         """Compile the kernel (or load it from the cache) with no samples."""
@@ -184,6 +185,16 @@ class Renderer:
             render_samples(self.frame, self.film, 0, 0)
         self.compile_seconds = _time.perf_counter() - t0
         return self.compile_seconds
+
+    def show(self):
+        """In a Jupyter notebook: show the result so far, in one display that
+        later calls update in place (step-by-step rendering)."""
+        from ..io.preview import NotebookPreview, require
+        require()
+        if self._preview is None:
+            self._preview = NotebookPreview(self.result(denoise=False))
+        else:
+            self._preview.update(self, final=True)
 
     def add_samples(self, n):
         """Render samples spp .. spp + n - 1 of every pixel here, with the options'
