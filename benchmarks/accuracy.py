@@ -25,8 +25,8 @@ the fraction of NaN/Inf samples (Mitsuba: of pixel values); fits the slope of lo
 RMSE against log seconds (ideal: -1/2); and an equal-time table: each strategy's
 RMSE interpolated (log-log) at Mitsuba's times, and its ratio to Mitsuba's RMSE.
 
-Writes results/accuracy.json, results/accuracy.png (log-log error vs seconds,
-one line per strategy and Mitsuba) and results/accuracy_crops.png (equal-time
+Writes benchmark-results/accuracy.json, benchmark-results/accuracy.png (log-log error vs seconds,
+one line per strategy and Mitsuba) and benchmark-results/accuracy_crops.png (equal-time
 crops).  --quick runs a tiny version (seconds, cornell_box and cornell_glass unless
 --scenes says otherwise) to check that the script works.
 """
@@ -396,6 +396,10 @@ def main(argv=None):
             vs_peer=versus_peer(curves, peer_data["rows"]) if peer_data else [])
         crop_images[name] = (found[0], crops(scene, cfg, args.threads), cfg["crop_seconds"],
                              peer_crop(peer_images, cfg["crop_seconds"]) if peer_images else [])
+    if not data["scenes"]:
+        print(f"accuracy: no reference for any of {', '.join(config)} (looked in {REFERENCES}"
+              " and tests/data/reference); nothing measured", file=sys.stderr)
+        return 2
     data["total_seconds"] = time.perf_counter() - start
     data["machine"] = machine()              # now that Numba's threading layer is known
     args.out.mkdir(parents=True, exist_ok=True)
@@ -446,4 +450,4 @@ def equal_time_table(name, d):
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

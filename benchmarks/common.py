@@ -13,7 +13,9 @@ import numba
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-RESULTS = HERE / "results"
+# Where a run writes (--out): a folder of the current one, never the results
+# committed in benchmarks/results (which are runs copied there on purpose).
+RESULTS = Path("benchmark-results")
 # Independent references (Mitsuba 3): the folder RTWEEKEND_REFERENCES names, or
 # else ../shared/references beside the repository and then the copies every
 # clone has in tests/data/reference (NAME.npz: radiance, stderr).

@@ -16,7 +16,7 @@ process with that cache: its start, import to the first image (the default
 strategy's kernel loaded from the cache).  A scene pays
 only for The Next Week's features it uses (textures, media, motion: each
 compiled in only where a scene has it), which the features column says.
-Writes results/compile.json and prints a table.
+Writes benchmark-results/compile.json and prints a table.
 """
 import json
 import os

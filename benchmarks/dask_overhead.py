@@ -17,7 +17,7 @@ call; and the import of rtweekend in a fresh process, which a worker pays
 before its first task (here the spawned workers import it at start-up, as they
 re-import this script).
 
-Writes results/distributed.json and prints a table.  --quick runs a tiny
+Writes benchmark-results/distributed.json and prints a table.  --quick runs a tiny
 version (seconds) to check that the script works; --cold-start adds the
 cold-start measurement to it (about a minute: a compile).
 """

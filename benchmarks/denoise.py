@@ -24,7 +24,7 @@ unbiased one, at equal samples, and what it costs.
    600x600, 100 spp) with denoise=True: rendering seconds, denoising seconds
    and their ratio (after a warm-up render and denoise).
 
-Writes results/denoise.json and results/denoise.png; --quick is a tiny run
+Writes benchmark-results/denoise.json and benchmark-results/denoise.png; --quick is a tiny run
 that checks the script.
 """
 import sys

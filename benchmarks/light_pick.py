@@ -10,7 +10,7 @@ changes); mean variance of a pixel (its standard error squared, at equal spp),
 seconds, and the efficiency ratio 1 / (variance x time).  Both are checked
 against the books' mixture (an estimator that does not pick emitters at all)
 rendered with 4x the samples: the pixel z-scores of the difference should look
-like a standard normal (mean ~0, spread ~1).  Writes results/light_pick.json.
+like a standard normal (mean ~0, spread ~1).  Writes benchmark-results/light_pick.json.
 """
 import sys
 import time

@@ -23,7 +23,7 @@ next (it loads the cache) give the same bits.  trees: the rtweekend package of e
 source tree imported under its own name (a copy), for before/after
 comparisons of a change; the first tree is the base.
 
-Writes results/paired.json in yardstick mode (--quick: a second per side,
+Writes benchmark-results/paired.json in yardstick mode (--quick: a second per side,
 48x48, no file).
 """
 import importlib

@@ -15,7 +15,7 @@ excluded, as the renderer does).  One thread, median of 11 runs after a
 warm-up, the two precisions alternating.  Also counts the rays whose nearest
 object differs between the two.
 
-Writes results/precision.json.  --quick runs a tiny version.
+Writes benchmark-results/precision.json.  --quick runs a tiny version.
 """
 import sys
 import time

@@ -14,7 +14,7 @@ Gain: the log-log slope of the RMS error over pixels of an N-point estimate
 (N = 4..1024) of a smooth integral (exp(uv) over the unit square) and of a
 discontinuous one (a disc's area), with Sobol points and with the counter RNG.
 
-Writes results/sobol.json.  --quick runs a tiny version.
+Writes benchmark-results/sobol.json.  --quick runs a tiny version.
 """
 import math
 import sys

@@ -14,7 +14,7 @@ unbiased renders a and b of a pixel, E[(a - b)^2] = 2 Var, so
 is the root mean squared error of one render, the noise of the other included
 in no way.  Prints the ratio of each candidate's RMSE to the default's and
 which is lowest; for an unbiased estimator a ratio r means r^2 times the time
-to reach the same error.  Writes results/strategies.json.
+to reach the same error.  Writes benchmark-results/strategies.json.
 """
 import sys
 import time

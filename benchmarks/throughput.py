@@ -18,7 +18,7 @@ two scaling curves (median of 3 per point): time against pixels x spp
 (cornell_box) and against the number of spheres
 (10 .. 10,000 random spheres, with and without the BVH).
 
-Writes results/throughput.json and results/throughput.png; prints a table.
+Writes benchmark-results/throughput.json and benchmark-results/throughput.png; prints a table.
 --quick runs a tiny version (seconds) to check that the script works.
 """
 import argparse

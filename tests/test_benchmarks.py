@@ -52,10 +52,18 @@ def test_accuracy_benchmark_quick(tmp_path):
 
 
 def test_accuracy_benchmark_skips_a_scene_without_its_reference(tmp_path):
-    r = _accuracy(tmp_path, tmp_path / "nowhere", "--no-peer")
+    # One without a reference is skipped in one line; none at all: exit 2, nothing written.
+    refs = _references(tmp_path / "some", names=("cornell_box_300",))
+    r = _accuracy(tmp_path / "one", refs, "--no-peer")
     assert r.returncode == 0, r.stderr
-    assert r.stdout.count("(set RTWEEKEND_REFERENCES); skipped") == 2
-    assert json.loads((tmp_path / "accuracy.json").read_text())["scenes"] == {}
+    assert r.stdout.count("(set RTWEEKEND_REFERENCES); skipped") == 1
+    assert list(json.loads((tmp_path / "one" / "accuracy.json").read_text())["scenes"]) == \
+        ["cornell_box"]
+    r = _accuracy(tmp_path / "none", tmp_path / "nowhere", "--no-peer")
+    assert r.returncode == 2
+    assert r.stderr.strip().splitlines()[-1].startswith("accuracy: no reference for any of "
+                                                        "cornell_box, cornell_glass")
+    assert not (tmp_path / "none" / "accuracy.json").exists()
 
 
 def test_throughput_benchmark_quick(tmp_path):
