@@ -49,8 +49,10 @@ def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
     denoise: also denoise the image with Open Image Denoise (pip install
     'rtweekend[denoise]'), fed with those features: result.denoised, beside the
     unbiased result.image; the light seen emitted is kept out of the filter.
-    preview: in a Jupyter notebook, show the image as it renders, updated in
-    place (a local render; the image is the same bits without it).
+    preview: show the image as it renders (a local render; the image is the
+    same bits without it): True in a Jupyter notebook, updated in place;
+    "tev" or "tev://HOST:PORT" streamed to the tev viewer, with the standard
+    error as the channels stderr.R/G/B.
     """
     if not isinstance(scene, Scene):
         raise SceneError(f"render: expected a Scene (rt.load_scene or rt.Scene), "

@@ -106,6 +106,10 @@ def build_parser():
                    "Open Image Denoise (biased: smooth, not exact; .npy/.exr also keep the "
                    "unbiased one as the layer 'unbiased'). Needs pip install "
                    "'rtweekend[denoise]'")
+    r.add_argument("--tev", nargs="?", const="127.0.0.1:14158", metavar="HOST:PORT",
+                   help="stream the image to a running tev viewer as it renders, with the "
+                   "standard error as channels stderr.R/G/B (default address: tev's own, "
+                   "127.0.0.1:14158); none listening: one warning, the render goes on")
     r.add_argument("--aov", metavar="NAMES", help="also save feature images, comma-separated: "
                    "albedo, normal, emission (.exr: layers NAME.R/G/B; .npy: OUT.NAME.npy "
                    "beside OUT.npy)")
@@ -190,7 +194,8 @@ def _render(args):
                         width=args.width, height=args.height, max_depth=args.max_depth,
                         threads=args.threads, sampling=args.sampling, clamp=args.clamp,
                         progress=not args.quiet, client=client, aov=args.aov,
-                        denoise=args.denoise)
+                        denoise=args.denoise,
+                        preview=f"tev://{args.tev}" if args.tev else False)
     stats = result.stats
     if stats.samples == 0:
         when = "while compiling" if stats.seconds == 0 else "before the first samples"

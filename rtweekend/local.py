@@ -13,6 +13,7 @@ import time as _time
 import numba
 
 from .io.preview import NotebookPreview
+from .io.tev import TevPreview
 from .io.progress import Progress, StopOnInterrupt
 from .kernel.calls import Abandoned, call_awake
 from .path.integrators import ESTIMATORS
@@ -31,7 +32,7 @@ def render_locally(renderer, spp, time):
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt at once.
     """
     report = Progress(renderer.options.progress, spp, time)
-    preview = NotebookPreview() if renderer.options.preview else None
+    preview = _preview(renderer)
     threads = renderer.options.threads or numba.get_num_threads()
     interrupted = False
     compiled = False
@@ -67,7 +68,17 @@ def render_locally(renderer, spp, time):
     result.stats.compiled = compiled
     if preview is not None:
         preview.show(result)             # the last image stays shown, Ctrl-C or not
+        if hasattr(preview, "close"):
+            preview.close()
     return result
+
+
+def _preview(renderer):
+    """The live preview the options ask for: a notebook's display, a tev, or None."""
+    how = renderer.options.preview
+    if isinstance(how, str):
+        return TevPreview(how, renderer.name, renderer.width, renderer.height)
+    return NotebookPreview() if how else None
 
 
 def _compiles():

@@ -100,7 +100,8 @@ class RenderOptions:
     normal of what each pixel's paths first see through mirrors and glass, and
     the light they see emitted there.
     denoise: also make the image denoised by Open Image Denoise (denoise.py).
-    preview: show the image as it renders, in a Jupyter notebook (io/preview.py).
+    preview: show the image as it renders: True in a Jupyter notebook
+    (io/preview.py), "tev" or "tev://HOST:PORT" in the tev viewer (io/tev.py).
     progress: True for a bar on stderr, a callable, or False.
     """
     integrator: str = "path"
@@ -116,7 +117,7 @@ class RenderOptions:
     bvh: bool | None = None
     aov: tuple | None = None
     denoise: bool | None = None
-    preview: bool | None = None
+    preview: bool | str | None = None
     progress: object = False
 
     def __post_init__(self):
@@ -142,9 +143,13 @@ class RenderOptions:
         self._check_aov()
         self._check_denoise()
         if self.preview is not None:
-            if not isinstance(self.preview, bool):
-                raise SceneError(f"render: preview: must be True or False, got {self.preview!r}")
-            if self.preview:
+            if isinstance(self.preview, str) and self.preview.startswith("tev"):
+                from .io.tev import address
+                address(self.preview)                 # SceneError if malformed
+            elif not isinstance(self.preview, bool):
+                raise SceneError("render: preview: must be True (a notebook), \"tev\" or "
+                                 f"\"tev://HOST:PORT\", or False; got {self.preview!r}")
+            elif self.preview:
                 from .io.preview import require
                 require()
 

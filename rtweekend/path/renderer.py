@@ -169,6 +169,7 @@ class Renderer:
         _check_memory(scene, options)
         self.frame = freeze(scene, options)
         self.width, self.height = self.frame.width, self.frame.height
+        self.name = scene.name     # what a preview calls the image
         self.film = films.new_film(self.height, self.width, splats(self.frame), self.frame.aov)
         self.spp = 0               # samples per pixel so far, in every pixel
         self.band = 0              # a pass over part of the rows in progress: its spp
