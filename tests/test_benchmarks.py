@@ -268,3 +268,12 @@ def test_denoise_benchmark_quick(tmp_path):
     assert [row["spp"] for row in data["curves"]] == [1, 2, 4]
     assert data["peer"] is None and 0 < data["cost"]["share"]
     assert (tmp_path / "denoise.png").stat().st_size > 10_000
+
+
+def test_preview_benchmark_quick(tmp_path):
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "preview.py"), "--quick",
+                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    data = json.loads((tmp_path / "preview.json").read_text())
+    assert set(data["updates"]) == {"notebook", "tev"}
+    assert all(0 < u["share"] < 1 for u in data["updates"].values())

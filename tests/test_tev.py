@@ -98,3 +98,17 @@ def test_no_tev_listening_is_one_warning_and_the_render_goes_on():
 def test_a_bad_tev_address_is_one_line(spec):
     with pytest.raises(rt.SceneError, match="preview: "):
         rt.render(rt.load_scene("cornell_box"), spp=1, width=4, height=4, preview=spec)
+
+
+def test_ctrl_c_leaves_the_last_image_shown():
+    import os
+    import signal
+    tev = FakeTev()
+    timer = threading.Timer(1.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    timer.start()
+    r = rt.render(rt.load_scene("cornell_box"), spp=100000, width=64, height=64, seed=4,
+                  preview=f"tev://127.0.0.1:{tev.port}")
+    timer.join()
+    tev.join()
+    assert r.stats.interrupted and 0 < r.stats.spp < 100000
+    assert np.array_equal(tev.image[..., :3], r.image)     # what was returned is shown

@@ -12,9 +12,10 @@ import time
 
 from ..errors import SceneError
 
-# Seconds between updates: an update (the result and its PNG) took 14 ms at
-# 300x300, and the passes wait for it: twice a second costs at most 2.9%.
-MIN_INTERVAL = 0.5
+# Seconds between updates: an update (the result and its PNG) takes 14-17 ms
+# at 300x300 and the passes wait for it, so at this interval it costs at most
+# about 2.3% (benchmarks/preview.py).
+MIN_INTERVAL = 0.75
 
 
 def in_notebook():
