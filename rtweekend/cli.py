@@ -37,8 +37,12 @@ docs/scenes.md."""
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):
-        # One line, no usage dump: the same standard as every other bad input.
-        self.exit(EXIT_BAD_INPUT, f"{self.prog}: error: {message} (see --help)\n")
+        # One line, no usage dump, and the prefix of every other error:
+        # "rtweekend: error: render: --spp: ..." (argparse says "argument --spp").
+        command = self.prog.partition(" ")[2]
+        message = message.removeprefix("argument ")
+        self.exit(EXIT_BAD_INPUT, f"rtweekend: error: {command + ': ' if command else ''}"
+                                  f"{message} (see {self.prog} --help)\n")
 
 
 def _option(name, parse=int, **rule):

@@ -106,3 +106,12 @@ def test_render_help_has_examples_ctrl_c_and_exit_status():
     assert "examples:" in r.stdout and "rtweekend render cornell_box --spp 16" in r.stdout
     assert "status 130" in r.stdout and "status 2" in r.stdout
     assert "SCENE.png in the current folder" in r.stdout
+
+
+def test_option_errors_have_the_prefix_of_every_other_error():
+    r = run("render", "--spp", "0")
+    assert r.returncode == 2
+    assert r.stderr.strip() == ("rtweekend: error: render: --spp: must be >= 1, got 0 "
+                                "(see rtweekend render --help)")
+    r = run("render", "no_such_scene")
+    assert r.stderr.startswith("rtweekend: error: ")
