@@ -97,10 +97,11 @@ def size(n):
     return f"{n} bytes"
 
 
-def check(needed, width, height, what="render", scene=0, objects=0):
+def check(needed, width, height, what="render", scene=0, objects=0, origin=None):
     """SceneError unless `needed` bytes (of which `scene` for the scene's arrays,
     with `objects` objects) fit in what this process can still get; the message
-    names the image's size, or the scene if it needs most of it."""
+    names the image's size and `origin` (what set it), or the scene if it needs
+    most of it."""
     free, source = available()
     if free is None or needed <= SHARE * free:
         return
@@ -108,6 +109,7 @@ def check(needed, width, height, what="render", scene=0, objects=0):
         raise SceneError(f"{what}: the scene's {objects} objects need about {size(scene)} "
                          f"of memory, with its {width}x{height} image {size(needed)}, and "
                          f"{size(free)} is available ({source}); render a smaller scene")
-    raise SceneError(f"{what}: width x height: {width}x{height} needs about "
+    where = f" ({origin})" if origin else ""
+    raise SceneError(f"{what}: width x height: {width}x{height}{where} needs about "
                      f"{size(needed)} of memory and {size(free)} is available "
                      f"({source}); render a smaller image")

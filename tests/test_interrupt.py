@@ -216,17 +216,26 @@ def test_an_image_too_big_for_memory_fails_at_once_in_one_line(tmp_path):
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1, lines
     assert lines[0].startswith("rtweekend: error: render: width x height: 65536x65536 "
-                               "needs about ")
+                               "(the width/height asked for) needs about ")
     assert " TB of memory and " in lines[0] and " is available (" in lines[0]
     assert list(tmp_path.iterdir()) == []
+    scene = tmp_path / "big.toml"
+    scene.write_text('[camera]\nwidth = 65536\nheight = 65536\n[[objects]]\ntype = "sphere"\n'
+                     'center = [0, 0, -1]\nradius = 0.5\n'
+                     'material = { type = "lambertian", albedo = [0.5, 0.5, 0.5] }\n')
+    r = subprocess.run(CMD + ["render", str(scene), "-o", str(out)], capture_output=True,
+                       text=True, timeout=120)
+    assert r.returncode == 2
+    assert "65536x65536 (the camera of scene 'big') needs about " in r.stderr
 
 
 def test_the_memory_check_comes_before_any_allocation(monkeypatch, cornell_box):
     monkeypatch.setattr(memory, "available", lambda: (8e9, "MemAvailable"))
     allocated = []
     monkeypatch.setattr(films, "new_film", lambda *a: allocated.append(a))
-    with pytest.raises(rt.SceneError, match=r"16384x16384 needs about [0-9.]+ GB of memory "
-                       r"and 8\.0 GB is available \(MemAvailable\)"):
+    with pytest.raises(rt.SceneError, match=r"16384x16384 \(the width/height asked for\) "
+                       r"needs about [0-9.]+ GB of memory and 8\.0 GB is available "
+                       r"\(MemAvailable\)"):
         rt.render(cornell_box, width=16384, height=16384, spp=1)
     with pytest.raises(rt.SceneError, match="needs about"):
         rt.render(rt.load_scene("cgfs"), width=16384, height=16384)
