@@ -14,7 +14,7 @@ kernel/ (what both share), local.py and distributed/ (the drivers), io/, and
 api.py, which ties them together.  docs/architecture.md walks through it.
 """
 from .api import render
-from .errors import SceneError, SceneWarning
+from .errors import OutputError, SceneError, SceneWarning
 from .io.image import save_image, tonemap
 from .path.renderer import Renderer
 from .result import RenderResult, RenderStats
@@ -27,7 +27,8 @@ from .scene import (SKY, Camera, ClassicCamera, Scene, ambient, box, bundled_sce
 __version__ = _version()
 
 __all__ = [
-    "SceneError", "SceneWarning", "load_scene", "bundled_scenes", "save_image", "tonemap",
+    "SceneError", "OutputError", "SceneWarning", "load_scene", "bundled_scenes",
+    "save_image", "tonemap",
     "render", "Renderer", "RenderResult", "RenderStats", "Scene", "Camera", "SKY",
     "lambertian", "metal", "dielectric", "diffuse_light",
     "sphere", "xy_rect", "xz_rect", "yz_rect", "box", "quad", "constant_medium", "isotropic",

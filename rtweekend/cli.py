@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 from . import checks
-from .errors import FieldError, SceneError
+from .errors import FieldError, OutputError, SceneError
 from .io.formats import HDR, LDR
 from .version import version
 from .options import SAMPLINGS
@@ -216,7 +216,7 @@ def _render(args):
     try:
         save_image(image, output, layers, metadata)
     except OSError as e:
-        raise SceneError(f"{output}: cannot write: {e.strerror or e}") from None
+        raise OutputError(f"{output}: cannot write: {e.strerror or e}") from None
     print(f"{output}: {stats.summary()}")
     if stats.interrupted:
         why = "interrupted" if stats.stopped_by in (None, "Ctrl-C") else stats.stopped_by

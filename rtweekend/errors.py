@@ -10,6 +10,12 @@ class SceneError(ValueError):
     """
 
 
+class OutputError(SceneError):
+    """An image file that cannot be written: its extension, its folder, its
+    permissions, its shape.  A SceneError too, so that one except clause still
+    catches every bad input."""
+
+
 class SceneWarning(UserWarning):
     """A scene that renders, but not as its author likely meant (one line)."""
 

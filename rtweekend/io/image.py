@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import SceneError
+from ..errors import OutputError
 from .formats import FORMATS, HDR, LDR  # noqa: F401
 
 
@@ -31,25 +31,25 @@ def tonemap(image, exposure=1.0):
 
 
 def check_output_path(path):
-    """Raise SceneError unless `path` has a known extension and a writable folder."""
+    """Raise OutputError unless `path` has a known extension and a writable folder."""
     path = Path(path)
     ext = path.suffix.lower()
     if path.is_dir():
-        raise SceneError(f"{path}: cannot write: it is a folder; name a file in it, such "
+        raise OutputError(f"{path}: cannot write: it is a folder; name a file in it, such "
                          f"as {path / 'image.png'}")
     if ext not in FORMATS:
-        raise SceneError(f"{path}: unknown output extension '{path.suffix}'; "
+        raise OutputError(f"{path}: unknown output extension '{path.suffix}'; "
                          f"use one of {', '.join(FORMATS)}")
     if ext == ".exr":
         try:
             import OpenEXR  # noqa: F401
         except ImportError:
-            raise SceneError(f"{path}: writing .exr needs the OpenEXR package "
+            raise OutputError(f"{path}: writing .exr needs the OpenEXR package "
                              "(pip install 'rtweekend[exr]'); .npy keeps linear "
                              "floats too") from None
     folder = path.parent if str(path.parent) else Path(".")
     if not folder.is_dir():
-        raise SceneError(f"{path}: cannot write: folder '{folder}' does not exist")
+        raise OutputError(f"{path}: cannot write: folder '{folder}' does not exist")
     try:
         # Permission bits do not tell the whole story (root, read-only mounts,
         # /sys): create and remove the temporary file the write will use.
@@ -57,7 +57,7 @@ def check_output_path(path):
         os.close(fd)
         os.unlink(probe)
     except OSError as e:
-        raise SceneError(f"{path}: cannot write in folder '{folder}': "
+        raise OutputError(f"{path}: cannot write in folder '{folder}': "
                          f"{e.strerror or e}") from None
 
 
@@ -80,7 +80,7 @@ def encode(image, ext, layers=None, metadata=None):
 def _rgb(image, what):
     image = np.asarray(image, dtype=np.float32)
     if image.ndim != 3 or image.shape[2] != 3:
-        raise SceneError(f"save_image: {what}: expected an HxWx3 image, got shape {image.shape}")
+        raise OutputError(f"save_image: {what}: expected an HxWx3 image, got shape {image.shape}")
     return image
 
 
@@ -124,7 +124,7 @@ def save_image(image, path, layers=None, metadata=None):
     check_output_path(path)
     ext = path.suffix.lower()
     if layers and ext not in (".npy", ".exr"):
-        raise SceneError(f"{path}: only .npy and .exr files can hold more layers "
+        raise OutputError(f"{path}: only .npy and .exr files can hold more layers "
                          f"({', '.join(layers)}); .png and the like hold one tone-mapped image")
     if ext == ".npy":
         for name, layer in (layers or {}).items():
