@@ -126,6 +126,12 @@ def build_parser():
     r.add_argument("-q", "--quiet", action="store_true", help="no progress bar")
     sub.add_parser("scenes", help="list the bundled scenes",
                    description="List the bundled scenes with a line about each.")
+    c = sub.add_parser("cache", help="list or clear the compiled kernels on disk",
+                       description="The compiled kernels of each version of rtweekend "
+                       "live in a folder of their own; list them, or remove the old ones.")
+    c.add_argument("action", nargs="?", choices=("list", "clear"), default="list")
+    c.add_argument("--all", action="store_true", help="with clear: this version's too "
+                   "(the next render compiles again)")
     return parser
 
 
@@ -142,6 +148,8 @@ def main(argv=None):
     try:
         if args.command == "scenes":
             return _scenes()
+        if args.command == "cache":
+            return _cache(args)
         return _render(args)
     except SceneError as e:
         print(f"rtweekend: error: {e}", file=sys.stderr)
@@ -176,6 +184,18 @@ def _scenes():
     width = max(map(len, scenes))
     for name, description in scenes.items():
         print(f"{name:<{width}}  {description}")
+    return 0
+
+
+def _cache(args):
+    from . import cache
+    if args.action == "clear":
+        removed, freed = cache.clear(everything=args.all)
+        print(f"removed {removed} folder{'s' * (removed != 1)}, {freed / 1e6:.1f} MB, "
+              f"from {cache.current().parent}")
+        return 0
+    for folder, size, in_use in cache.folders():
+        print(f"{folder}  {size / 1e6:7.1f} MB{'  (this version)' if in_use else ''}")
     return 0
 
 

@@ -1,4 +1,5 @@
 """The rtweekend command, run as users run it: in a subprocess."""
+import os
 import signal
 import subprocess
 import sys
@@ -115,3 +116,22 @@ def test_option_errors_have_the_prefix_of_every_other_error():
                                 "(see rtweekend render --help)")
     r = run("render", "no_such_scene")
     assert r.stderr.startswith("rtweekend: error: ")
+
+
+def test_cache_lists_and_clears_the_old_versions_folders(tmp_path):
+    # A cache of its own: this version's folder and an old one beside it.
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    old = tmp_path / "numba-0123456789abcdef"
+    old.mkdir()
+    (old / "kernel.nbc").write_bytes(b"x" * 2_000_000)
+    listed = subprocess.run(CMD + ["cache"], capture_output=True, text=True, env=env,
+                            timeout=120)
+    assert listed.returncode == 0
+    lines = listed.stdout.splitlines()
+    assert any(line.startswith(str(old)) and "2.0 MB" in line for line in lines)
+    assert sum("(this version)" in line for line in lines) == 1
+    cleared = subprocess.run(CMD + ["cache", "clear"], capture_output=True, text=True,
+                             env=env, timeout=120)
+    assert cleared.returncode == 0 and cleared.stdout.startswith("removed 1 folder, 2.0 MB")
+    assert not old.exists()
+    assert len(list(tmp_path.glob("numba-*"))) == 1           # this version's stays
