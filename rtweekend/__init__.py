@@ -35,3 +35,8 @@ __all__ = [
     "solid_color", "checker_texture", "noise_texture", "image_texture",
     "phong", "ambient", "point", "directional", "ClassicCamera",
 ]
+
+
+def __dir__():
+    """The public names (and the version), not the submodules imported on the way."""
+    return sorted(__all__ + ["__version__"])

@@ -5,6 +5,8 @@ integrator (the classic ray tracer or the path tracer); for the path tracer,
 `client` chooses the driver: this machine (local.py) or a Dask cluster
 (distributed/), over the same Renderer, with the same bits.
 """
+from collections.abc import Callable, Sequence
+
 from .classic.render import render_classic
 from .distributed import client as dask_driver
 from .distributed.cluster import check_render
@@ -12,12 +14,17 @@ from .local import render_locally
 from .options import RenderOptions
 from .errors import SceneError
 from .path.renderer import Renderer
+from .result import RenderResult
 from .scene import Scene
 
 
-def render(scene, spp=None, *, seed=0, time=None, width=None, height=None,
-           max_depth=None, threads=None, sampling=None, progress=False, bvh=None,
-           clamp=None, client=None, aov=None, denoise=False, preview=False):
+def render(scene: Scene, spp: int | None = None, *, seed: int = 0,
+           time: float | None = None, width: int | None = None, height: int | None = None,
+           max_depth: int | None = None, threads: int | None = None,
+           sampling: str | None = None, progress: bool | Callable = False,
+           bvh: bool | None = None, clamp: float | None = None, client: object = None,
+           aov: str | Sequence[str] | None = None, denoise: bool = False,
+           preview: bool | str = False) -> RenderResult:
     """Render `scene`; returns RenderResult, which unpacks as (image, stats).
 
     A classic (Computer Graphics from Scratch) scene is ray traced once per

@@ -204,3 +204,11 @@ def test_a_preview_outside_a_notebook_is_one_line():
     r = rt.Renderer(rt.load_scene("cornell_box"), width=4, height=4)
     with pytest.raises(rt.SceneError, match="this is not one"):
         r.show()
+
+
+def test_every_public_name_is_documented_and_dir_shows_only_them():
+    for name in rt.__all__:
+        assert (getattr(rt, name).__doc__ or "").strip(), f"rt.{name} has no docstring"
+    assert [n for n in dir(rt) if not n.startswith("_")] == sorted(rt.__all__)
+    hints = rt.render.__annotations__
+    assert hints["spp"] == int | None and "return" in hints

@@ -37,10 +37,12 @@ def _light(kind, intensity, field=None, vector=None):
 
 
 def ambient(intensity):
+    """Computer Graphics from Scratch's ambient light: `intensity` everywhere."""
     return _light("ambient", intensity)
 
 
 def point(intensity, position):
+    """A point light of `intensity` at `position` (the book's point light)."""
     return _light("point", intensity, "position", position)
 
 

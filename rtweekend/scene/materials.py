@@ -47,6 +47,8 @@ def lambertian(albedo, *, name=None):
 
 @checked("metal")
 def metal(albedo, fuzz=0.0, *, name=None):
+    """The books' metal: reflects with colour `albedo`, the direction blurred by
+    a random point of a sphere of radius `fuzz` (0: a mirror; clamped at 1)."""
     # The book clamps fuzz to 1; a negative fuzz is a mistake, not a clamp.
     fuzz = min(fields.number(fuzz, "fuzz", lo=0.0), 1.0)
     return Material("metal", fields.color(albedo, "albedo", hi=1.0), fuzz, name)
@@ -54,6 +56,8 @@ def metal(albedo, fuzz=0.0, *, name=None):
 
 @checked("dielectric")
 def dielectric(ior, *, name=None):
+    """The books' glass of index of refraction `ior`: reflects with Schlick's
+    probability (always under total internal reflection), else refracts."""
     return Material("dielectric", (1.0, 1.0, 1.0),
                     fields.number(ior, "ior", lo=0.0, lo_open=True), name)
 

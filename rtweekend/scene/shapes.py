@@ -121,18 +121,21 @@ def _interval(lo, hi, lo_name, hi_name):
 
 @checked("xy_rect")
 def xy_rect(x0, x1, y0, y1, k, material, *, name=None):
+    """The books' rectangle [x0, x1] x [y0, y1] in the plane z = k, facing +z."""
     return Shape("xy_rect", (*_interval(x0, x1, "x0", "x1"), *_interval(y0, y1, "y0", "y1"),
                              fields.number(k, "k")), check_material(material), name=name)
 
 
 @checked("xz_rect")
 def xz_rect(x0, x1, z0, z1, k, material, *, name=None):
+    """The books' rectangle [x0, x1] x [z0, z1] in the plane y = k, facing +y."""
     return Shape("xz_rect", (*_interval(x0, x1, "x0", "x1"), *_interval(z0, z1, "z0", "z1"),
                              fields.number(k, "k")), check_material(material), name=name)
 
 
 @checked("yz_rect")
 def yz_rect(y0, y1, z0, z1, k, material, *, name=None):
+    """The books' rectangle [y0, y1] x [z0, z1] in the plane x = k, facing +x."""
     return Shape("yz_rect", (*_interval(y0, y1, "y0", "y1"), *_interval(z0, z1, "z0", "z1"),
                              fields.number(k, "k")), check_material(material), name=name)
 

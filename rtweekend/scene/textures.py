@@ -80,6 +80,7 @@ def _as_texture(value, field):
 
 @checked("solid_color")
 def solid_color(color, *, name=None):
+    """A texture of one colour everywhere (the books' solid_color)."""
     return Texture("solid", fields.color(color, "color"), name=name)
 
 
