@@ -63,7 +63,7 @@ BOOKS = {
     "cornell_glass@300": dict(width=300, height=300, max_spp=512, crop_seconds=6.0,
                               reference="cornell_glass_300", reference_spp=8192),
 }
-# Where methods fail (README): each breaks one strategy.  tiny_light's own
+# Where methods fail (docs/accuracy.md): each breaks one strategy.  tiny_light's own
 # pixels (radiance 2000 on its edges) would measure how each renderer places
 # samples in a pixel, not how it finds the light: they are left out (mask_above:
 # pixels whose reference exceeds it in any channel).

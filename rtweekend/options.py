@@ -65,7 +65,7 @@ SAMPLINGS = {
     "bdpt+sobol": Sampling(0.0, sobol=True, estimator="bdpt"),
 }
 # The default: the strategy with the lowest error at equal time, by what the
-# scene holds (benchmarks/strategies.py and accuracy.py; README, Accuracy).
+# scene holds (benchmarks/strategies.py and accuracy.py; docs/accuracy.md).
 # Where emitters light metal or glass that is a noticeable part of the scene
 # (SPECULAR_SHARE of its surface area or more) and that the lights list does not
 # aim the mixture at, bidirectional path tracing finds the caustics and the light
