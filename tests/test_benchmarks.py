@@ -277,3 +277,11 @@ def test_preview_benchmark_quick(tmp_path):
     data = json.loads((tmp_path / "preview.json").read_text())
     assert set(data["updates"]) == {"notebook", "tev"}
     assert all(0 < u["share"] < 1 for u in data["updates"].values())
+
+
+def test_light_pick_benchmark_quick(tmp_path):
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "light_pick.py"), "--quick",
+                        "--out", str(tmp_path)], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    lines = [line for line in r.stdout.splitlines() if "efficiency x" in line]
+    assert [line.split()[0] for line in lines] == ["simple_light", "bright_and_dim"]
