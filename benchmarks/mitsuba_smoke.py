@@ -36,14 +36,9 @@ counted; medium scatterings are), next-event estimation with MIS, Russian
 roulette from depth 5: unbiased, so only the noise differs from the books'
 estimator.
 
-Renders in passes of --pass-spp (pass i uses Mitsuba seed --seed * 100003 + i)
-and writes, for --out NAME:
-  NAME.npy         float32 H x W x 3 linear radiance (the mean of the passes)
-  NAME_stderr.npy  float32 per-pixel standard error: std over passes / sqrt(passes)
-  NAME.json        settings, seconds, spp_done, mean, RMS stderr, Mitsuba version
-  NAME.png         preview, the books' tone map (sqrt, clamp [0, .999], x256)
-They are rewritten after every pass, so an interrupted run leaves a valid (if
-noisier) result; --time-limit stops after the pass that crosses it.
+Renders in passes and writes NAME.npy, NAME_stderr.npy, NAME.json and
+NAME.png for --out NAME after every pass, as mitsuba_reference.py does (its
+render_passes: the files and the seeds are described there).
 """
 import argparse
 import json

@@ -14,8 +14,6 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import machine, parser, save_json  # noqa: E402
 
@@ -45,9 +43,7 @@ def main(argv=None):
         r.result(denoise=False)._repr_html_()
 
     def tev_update():
-        res = r.result(denoise=False)
-        pixels = np.concatenate([res.image, res.stderr], axis=2)
-        sum(len(b) for b in tev.update_packets("x", pixels))
+        sum(len(b) for b in tev.update_packets("x", tev.pixels_of(r.result(denoise=False))))
 
     data = dict(machine=machine(), size=size, runs=runs, updates={})
     for name, fn, interval in (("notebook", notebook_update, preview.MIN_INTERVAL),

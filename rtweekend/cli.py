@@ -110,7 +110,7 @@ def build_parser():
                    "Open Image Denoise (biased: smooth, not exact; .npy/.exr also keep the "
                    "unbiased one as the layer 'unbiased'). Needs pip install "
                    "'rtweekend[denoise]'")
-    r.add_argument("--tev", nargs="?", const="127.0.0.1:14158", metavar="HOST:PORT",
+    r.add_argument("--tev", nargs="?", const="", metavar="HOST:PORT",
                    help="stream the image to a running tev viewer as it renders, with the "
                    "standard error as channels stderr.R/G/B (default address: tev's own, "
                    "127.0.0.1:14158); none listening: one warning, the render goes on")
@@ -143,7 +143,12 @@ def _warn_in_one_line(message, category, filename, lineno, file=None, line=None)
 
 def main(argv=None):
     import warnings
-    warnings.showwarning = _warn_in_one_line
+    with warnings.catch_warnings():          # restored on return (main in a test)
+        warnings.showwarning = _warn_in_one_line
+        return _main(argv)
+
+
+def _main(argv):
     args = build_parser().parse_args(argv)
     try:
         if args.command == "scenes":
@@ -219,7 +224,7 @@ def _render(args):
                         threads=args.threads, sampling=args.sampling, clamp=args.clamp,
                         progress=not args.quiet, client=client, aov=args.aov,
                         denoise=args.denoise,
-                        preview=f"tev://{args.tev}" if args.tev else False)
+                        preview=False if args.tev is None else f"tev://{args.tev}")
     stats = result.stats
     if stats.samples == 0:
         when = "while compiling" if stats.seconds == 0 else "before the first samples"

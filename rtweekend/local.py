@@ -68,8 +68,7 @@ def render_locally(renderer, spp, time):
     result.stats.compiled = compiled
     if preview is not None:
         preview.show(result)             # the last image stays shown, Ctrl-C or not
-        if hasattr(preview, "close"):
-            preview.close()
+        preview.close()
     return result
 
 

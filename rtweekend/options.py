@@ -245,6 +245,12 @@ class RenderOptions:
             w = max(1, round(h * camera.width / camera.height))
         return (camera.width, camera.height) if w is None else (w, h)
 
+    def size_origin(self, scene):
+        """What set the image's size, for messages: the options or the camera."""
+        if self.width is not None or self.height is not None:
+            return "the width/height asked for"
+        return f"the camera of scene '{scene.name}'"
+
     def sized(self, scene):
         """`scene` with its camera at image_size."""
         camera = scene.resolved_camera()

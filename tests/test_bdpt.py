@@ -12,6 +12,7 @@ import rtweekend as rt
 from rtweekend.path.integrators import mis
 from rtweekend.path.integrators.vertices import DELTA, FWD, NF, NI, REV
 from rtweekend.path.renderer import Renderer
+from splits import assert_same_bits_for_threads_and_splits
 from stats import block_se, blocks
 
 SMALL = dict(width=24, height=20, seed=3, sampling="bdpt")
@@ -156,21 +157,7 @@ def test_bdpt_and_the_path_tracer_agree(name):
 
 
 def test_bdpt_is_the_same_bits_for_any_thread_count_and_pass_split():
-    scene = rt.load_scene("cornell_glass")
-    one = rt.render(scene, spp=40, threads=1, **SMALL)
-    two = rt.render(scene, spp=40, threads=2, **SMALL)
-    r = Renderer(scene, **SMALL)
-    r.add_samples(3)
-    r.add_samples(20)
-    for _ in range(4):
-        r.add_rows(1, 5)
-    r.add_samples(16)
-    split = r.result()
-    for other in (two, split):
-        assert np.array_equal(one.image, other.image)
-        assert np.array_equal(one.stderr, other.stderr)
-        assert one.stats.rays == other.stats.rays
-    assert one.image.mean() > 0.05
+    assert_same_bits_for_threads_and_splits(rt.load_scene("cornell_glass"), **SMALL)
 
 
 def test_bdpt_feature_images_are_the_path_tracers():

@@ -11,6 +11,7 @@ import pytest
 
 import rtweekend as rt
 from rtweekend.errors import SceneError
+from watch import Watched
 
 pytest.importorskip("pyoidn", reason="the denoise extra is not installed")
 
@@ -138,29 +139,14 @@ def test_without_the_extra_one_line_and_exit_2_before_rendering(tmp_path):
 
 
 def test_ctrl_c_denoises_what_was_rendered(tmp_path):
-    import signal
-    import threading
-    import time
     out = tmp_path / "partial.npy"
-    p = subprocess.Popen(CMD + ["render", "cornell_box", "-o", str(out), "--spp", "100000",
-                                "--width", "48", "--height", "48", "--denoise"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE)
-    seen = bytearray()
-
-    def pump():
-        while chunk := p.stderr.read1(256):
-            seen.extend(chunk)
-    reader = threading.Thread(target=pump, daemon=True)
-    reader.start()
-    deadline = time.monotonic() + 120
-    while b" 2/100000 spp" not in seen and time.monotonic() < deadline and p.poll() is None:
-        time.sleep(0.05)
-    assert b" 2/100000 spp" in seen, seen.decode(errors="replace")
-    p.send_signal(signal.SIGINT)
-    p.wait(timeout=120)
-    reader.join(timeout=10)
-    summary = p.stdout.read().decode().strip().splitlines()[-1]
-    assert p.returncode == 130
+    run = Watched(CMD + ["render", "cornell_box", "-o", str(out), "--spp", "100000",
+                         "--width", "48", "--height", "48", "--denoise"])
+    run.wait_for(b" 2/100000 spp")
+    run.interrupt()
+    status, stdout, _ = run.finish(timeout=120)
+    summary = stdout.strip().splitlines()[-1]
+    assert status == 130
     assert "interrupted" in summary and "denoised in" in summary
     denoised, unbiased = np.load(out), np.load(tmp_path / "partial.unbiased.npy")
     assert denoised.shape == unbiased.shape == (48, 48, 3)

@@ -15,6 +15,7 @@ from rtweekend.path.bvh import closest_hit
 from rtweekend.path.camera import get_ray_at
 from rtweekend.path.layout import LAMBERTIAN, NO_HIT, OBJ_MAT
 from rtweekend.path.renderer import Renderer
+from splits import assert_same_bits_for_threads_and_splits
 from stats import block_se, blocks
 
 SMALL = dict(width=24, height=20, seed=3, sampling="lightpath")
@@ -104,21 +105,7 @@ def test_the_caustic_under_the_glass_ball_is_mitsubas(cornell_glass_reference):
 
 
 def test_splats_are_the_same_bits_for_any_thread_count_and_pass_split():
-    scene = rt.load_scene("cornell_glass")
-    one = rt.render(scene, spp=40, threads=1, **SMALL)
-    two = rt.render(scene, spp=40, threads=2, **SMALL)
-    r = Renderer(scene, **SMALL)
-    r.add_samples(3)
-    r.add_samples(20)                  # across a block's end: folded on the way
-    for _ in range(4):                 # a sample over part of the rows, four times
-        r.add_rows(1, 5)
-    r.add_samples(16)
-    split = r.result()
-    for other in (two, split):
-        assert np.array_equal(one.image, other.image)
-        assert np.array_equal(one.stderr, other.stderr)
-        assert one.stats.rays == other.stats.rays
-    assert one.image.mean() > 0.05
+    assert_same_bits_for_threads_and_splits(rt.load_scene("cornell_glass"), **SMALL)
 
 
 def test_a_pass_over_part_of_the_rows_may_not_cross_a_block():

@@ -44,10 +44,8 @@ def render_classic(scene, options):
     arrays = classic_arrays(spheres, lights)
     canvas_options = dict(background=scene.resolved_background(), position=camera.position,
                           rotation=camera.rotation, viewport=camera.viewport, d=camera.d)
-    asked = options.width is not None or options.height is not None
     memory.check(BYTES_PER_PIXEL * w * h, w, h,      # before the canvas is allocated
-                 origin="the width/height asked for" if asked else
-                 f"the camera of scene '{scene.name}'")
+                 origin=options.size_origin(scene))
     misses = sum(kernel.render_classic.stats.cache_misses.values())
     canvas, interrupted = None, False
     with thread_count(options.threads) as threads, StopOnInterrupt() as stop:

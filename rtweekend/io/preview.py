@@ -35,8 +35,29 @@ def require():
                          "notebook, and this is not one (the progress bar works anywhere)")
 
 
-class NotebookPreview:
-    """The display of one render, updated as it goes."""
+class Preview:
+    """What a live preview does with a render: update() after passes, at most
+    every `interval` seconds (always when final), with the result so far;
+    show(result) draws it (the subclass's); close() at the end."""
+
+    interval = MIN_INTERVAL
+    last = 0.0                       # when update() last drew
+
+    def update(self, renderer, final=False):
+        now = time.perf_counter()
+        if final or now - self.last >= self.interval:
+            self.show(renderer.result(denoise=False))
+            self.last = now
+
+    def show(self, result):
+        raise NotImplementedError
+
+    def close(self):
+        pass
+
+
+class NotebookPreview(Preview):
+    """One display in the notebook, updated in place."""
 
     def __init__(self, first=None):
         """Display `first` (a result), or a line saying the render is on."""
@@ -45,23 +66,7 @@ class NotebookPreview:
             self.handle = display({"text/plain": "rendering..."}, raw=True, display_id=True)
         else:
             self.handle = display(first, display_id=True)
-        self.last = time.perf_counter() if first is not None else 0.0
-        self.updates = 0
-        self.seconds = 0.0            # spent making the images shown
-
-    def update(self, renderer, final=False):
-        """Show renderer's result so far (not more often than MIN_INTERVAL, but
-        always when final)."""
-        now = time.perf_counter()
-        if not final and now - self.last < MIN_INTERVAL:
-            return
-        result = renderer.result(denoise=False)
-        self.handle.update(result)
-        self.last = time.perf_counter()
-        self.seconds += self.last - now
-        self.updates += 1
+            self.last = time.perf_counter()
 
     def show(self, result):
-        """The final result (denoised too, if asked) in place of the preview."""
         self.handle.update(result)
-        self.updates += 1

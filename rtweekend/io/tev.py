@@ -15,18 +15,20 @@ render goes on unchanged (the preview only reads the film).
 """
 import socket
 import struct
-import time
 import warnings
 
 import numpy as np
 
 from ..errors import SceneError, SceneWarning
+from .preview import Preview
 
 DEFAULT = ("127.0.0.1", 14158)       # tev's own default
 CREATE, UPDATE = 4, 6
 TILE = 128
 CHANNELS = ("R", "G", "B", "stderr.R", "stderr.G", "stderr.B")
-MIN_INTERVAL = 0.5                   # seconds between updates, as the notebook's
+# Seconds between updates: one takes 8-9 ms at 300x300, so at most 1.8% of a
+# render whose passes wait for it (benchmarks/preview.py).
+MIN_INTERVAL = 0.5
 
 
 def address(spec):
@@ -74,12 +76,21 @@ def update_packets(name, pixels, channels=CHANNELS):
             yield _packet(UPDATE, body)
 
 
-class TevPreview:
+def pixels_of(result):
+    """The H x W x 6 floats a tev is sent: the image, then its standard error (0
+    where it has none yet)."""
+    return np.concatenate([result.image, np.where(np.isfinite(result.stderr),
+                                                  result.stderr, 0.0)], axis=2)
+
+
+class TevPreview(Preview):
     """The stream of one render to a tev; inert (after one warning) if none answers."""
+
+    interval = MIN_INTERVAL
 
     def __init__(self, spec, name, width, height):
         self.host, self.port = address(spec)
-        self.name, self.last, self.updates = name, 0.0, 0
+        self.name = name
         try:
             self.sock = socket.create_connection((self.host, self.port), timeout=1.0)
             self.sock.sendall(create_packet(name, width, height))
@@ -91,21 +102,15 @@ class TevPreview:
         self.sock = None
 
     def update(self, renderer, final=False):
-        now = time.perf_counter()
-        if self.sock is None or (not final and now - self.last < MIN_INTERVAL):
-            return
-        self.show(renderer.result(denoise=False))
-        self.last = now
+        if self.sock is not None:              # nothing to make for a tev that is gone
+            super().update(renderer, final)
 
     def show(self, result):
         if self.sock is None:
             return
-        pixels = np.concatenate([result.image, np.where(np.isfinite(result.stderr),
-                                                         result.stderr, 0.0)], axis=2)
         try:
-            for packet in update_packets(self.name, pixels):
+            for packet in update_packets(self.name, pixels_of(result)):
                 self.sock.sendall(packet)
-            self.updates += 1
         except OSError as e:
             self.sock.close()
             self._give_up(f"tev at {self.host}:{self.port} went away ({e.strerror or e})")

@@ -29,6 +29,12 @@ def scale(a, s):
 
 
 @jit_step
+def at_most(a, m):
+    """Componentwise min(a, m): a radiance capped (a light's albedo feature)."""
+    return (min(a[0], m), min(a[1], m), min(a[2], m))
+
+
+@jit_step
 def madd(a, b, s):
     """a + s*b: a point moved along a direction."""
     return (a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2])

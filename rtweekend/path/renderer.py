@@ -147,11 +147,9 @@ def _check_memory(scene, options):
     width, height = options.image_size(camera)
     estimator = ESTIMATORS[options.strategy.estimator]
     scene_part = scene_bytes(scene)
-    asked = options.width is not None or options.height is not None
-    origin = "the width/height asked for" if asked else f"the camera of scene '{scene.name}'"
     memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features)
                  + scene_part, width, height, scene=scene_part, objects=len(scene.objects),
-                 origin=origin)
+                 origin=options.size_origin(scene))
 
 
 class Renderer:

@@ -35,7 +35,7 @@ import numpy as np
 
 from ...kernel import sampler
 from ...kernel.jit import jit_kernel, jit_step
-from ...kernel.vec3 import add, dot, madd, mul, neg, scale
+from ...kernel.vec3 import add, at_most, dot, madd, mul, neg, scale
 from .. import camera, lights, media as volumes, shapes
 from .. import film as films
 from ..bvh import closest_hit
@@ -220,12 +220,12 @@ def first_seen(scene, cf, ci, n, escaped, d, beta):
                 normal = neg(normal)
             if ci[i, MKIND] == DIFFUSE_LIGHT:
                 light = mul(col(cf, i, BETA), c) if facing else ZERO
-                c = (min(c[0], 1.0), min(c[1], 1.0), min(c[2], 1.0)) if facing else ZERO
+                c = at_most(c, 1.0) if facing else ZERO
                 return mul(col(cf, i, BETA), c), normal, light
             return mul(col(cf, i, BETA), c), normal, ZERO
     if escaped:
         e = background(scene, d)
-        return mul(beta, (min(e[0], 1.0), min(e[1], 1.0), min(e[2], 1.0))), ZERO, mul(beta, e)
+        return mul(beta, at_most(e, 1.0)), ZERO, mul(beta, e)
     return ZERO, ZERO, ZERO
 
 

@@ -34,7 +34,7 @@ import numpy as np
 
 from ...kernel import sampler
 from ...kernel.jit import jit_kernel, jit_step
-from ...kernel.vec3 import add, madd, mul, neg, scale
+from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
 from .. import materials, media as volumes, nee, pdf, shapes
 from ..bvh import closest_hit
@@ -106,7 +106,7 @@ def first_seen(bsdf, hit, beta):
     a light's radiance capped at 1, and the shading normal facing the ray."""
     emits, e = materials.emitted(bsdf)
     if emits or not materials.scatters(bsdf):
-        return mul(beta, (min(e[0], 1.0), min(e[1], 1.0), min(e[2], 1.0))), hit.n
+        return mul(beta, at_most(e, 1.0)), hit.n
     return mul(beta, bsdf.albedo), hit.n
 
 
@@ -202,8 +202,7 @@ def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x, l
             e = background(scene, d)
             radiance = add(radiance, mul(beta, e))
             if looking:
-                films.add_features(film, y, x, mul(beta, (min(e[0], 1.0), min(e[1], 1.0),
-                                                          min(e[2], 1.0))), ZERO)
+                films.add_features(film, y, x, mul(beta, at_most(e, 1.0)), ZERO)
                 films.add_emission(film, y, x, mul(beta, e))
             break
         hit = surface_at(scene, textures, k, o, d, t, time)
