@@ -8,6 +8,7 @@ Bad input is reported in one line on stderr with exit status 2.
 """
 import argparse
 import os
+import signal
 import sys
 from pathlib import Path
 
@@ -165,8 +166,11 @@ def _main(argv):
               file=sys.stderr)
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        # A second Ctrl-C (or one before rendering began): stop at once.  A file
-        # being written is removed by save_image; nothing else was written.
+        # A second Ctrl-C, one before rendering began, or one during the write:
+        # stop at once.  The files being written are removed; nothing else was.
+        writer = sys.modules.get(f"{__package__}.io.image")   # loaded if it wrote
+        if writer is not None:
+            writer.abandon_writes()
         _leave(EXIT_INTERRUPTED, "rtweekend: interrupted; nothing written")
 
 
@@ -208,6 +212,7 @@ def _render(args):
     from .api import render
     from .distributed import dask_client
     from .io.image import check_output_path, save_image
+    from .kernel.calls import call_awake
     from .scene.loader import load_scene
 
     scene = load_scene(args.scene)
@@ -239,9 +244,14 @@ def _render(args):
                     sampling=stats.sampling or "", version=version(),
                     denoised=result.denoised is not None)
     try:
-        save_image(image, output, layers, metadata)
+        # In the worker thread, this one awake: Ctrl-C during a long encode
+        # stops at once (and _main removes what was being written).
+        call_awake(lambda: save_image(image, output, layers, metadata))
     except OSError as e:
         raise OutputError(f"{output}: cannot write: {e.strerror or e}") from None
+    # The file is in place: a Ctrl-C now would only turn the exit status into
+    # a signal's; the two lines below take no time.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     print(f"{output}: {stats.summary()}")
     if stats.interrupted:
         why = "interrupted" if stats.stopped_by in (None, "Ctrl-C") else stats.stopped_by

@@ -188,6 +188,56 @@ def test_second_ctrl_c_stops_at_once_without_writing(tmp_path):
     assert [f.name for f in tmp_path.iterdir()] == ["mirrors.toml"]
 
 
+# The command with a slow write: `slow` is "encode" (the image's encoding, one
+# long C call that releases the GIL, as a big PNG's or EXR's) or "fsync" (the
+# second of two files to disk, the first one already written under its
+# temporary name).  Made slow here, not on the machine.
+SLOW_WRITE = """
+import hashlib, os, sys
+import rtweekend.io.image as image
+from rtweekend.cli import main
+
+def slowly():
+    print("writing slowly", file=sys.stderr, flush=True)
+    hashlib.pbkdf2_hmac("sha256", b"slow", b"write", 60_000_000)   # ~10 s in C
+
+encode, fsync, calls = image.encode, os.fsync, []
+def slow_encode(*args, **kwargs):
+    slowly()
+    return encode(*args, **kwargs)
+def slow_fsync(fd):
+    calls.append(fd)
+    if len(calls) == 2:
+        slowly()
+    return fsync(fd)
+if sys.argv[1] == "encode":
+    image.encode = slow_encode
+else:
+    os.fsync = slow_fsync
+sys.exit(main(sys.argv[2:]))
+"""
+
+
+@pytest.mark.parametrize("slow", ["encode", "fsync"])
+def test_second_ctrl_c_during_a_slow_write_stops_at_once_and_leaves_no_file(tmp_path, slow):
+    scene = mirror_box(tmp_path, 64, 64, 20000)
+    out = tmp_path / "never.npy"               # with a layer: two files to write
+    run = Watched([sys.executable, "-c", SLOW_WRITE, slow, "render", str(scene), "-o",
+                   str(out), "--aov", "albedo", "--spp", "64", "--threads", "2"])
+    run.wait_for(b"pass 2")
+    run.interrupt()                            # the first: stop and write
+    run.wait_for(b"writing slowly")
+    time.sleep(0.3)
+    t0 = time.monotonic()
+    run.interrupt()                            # the second, during the write
+    status, stdout, err = run.finish(timeout=60)
+    assert time.monotonic() - t0 < 2.0, "the second Ctrl-C waited for the write"
+    assert status == 130
+    assert err.strip().splitlines()[-1] == "rtweekend: interrupted; nothing written"
+    assert "Traceback" not in err and stdout == ""
+    assert [f.name for f in tmp_path.iterdir()] == ["mirrors.toml"]
+
+
 def test_ctrl_c_while_compiling_stops_at_once(tmp_path):
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "empty_cache"))
     out = tmp_path / "never.png"

@@ -7,6 +7,7 @@ truncated file behind.
 import io
 import os
 import tempfile
+import threading
 from pathlib import Path
 
 import numpy as np
@@ -126,29 +127,69 @@ def save_image(image, path, layers=None, metadata=None):
     if layers and ext not in (".npy", ".exr"):
         raise OutputError(f"{path}: only .npy and .exr files can hold more layers "
                          f"({', '.join(layers)}); .png and the like hold one tone-mapped image")
+    files = []
     if ext == ".npy":
-        for name, layer in (layers or {}).items():
-            _write_atomically(layer_path(path, name), encode(layer, ext))
+        files = [(layer_path(path, name), encode(layer, ext))
+                 for name, layer in (layers or {}).items()]
         layers = None
-    _write_atomically(path, encode(image, ext, layers, metadata))
+    files.append((path, encode(image, ext, layers, metadata)))
+    _write_atomically(files)
 
 
-def _write_atomically(path, data):
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part",
-                               dir=path.parent if str(path.parent) else ".")
+# A write the command abandons on Ctrl-C goes on in its thread (kernel/calls.py)
+# until the process exits: its temporary files are removed here and never
+# renamed into place, so that nothing it was writing is left behind.
+_WRITING = threading.Lock()
+_temporary = set()                  # the temporary files of the writes under way
+_abandoned = False
+
+
+def abandon_writes():
+    """Remove the files being written and keep them from being renamed into
+    place: Ctrl-C during a write leaves no file (the command calls this)."""
+    global _abandoned
+    with _WRITING:
+        _abandoned = True
+        for tmp in _temporary:
+            _unlink(tmp)
+        _temporary.clear()
+
+
+def _write_atomically(files):
+    """Write each (path, bytes) under a temporary name beside it, then rename
+    them all: a failure or Ctrl-C on the way leaves none of them."""
+    tmps = []
     try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-            f.flush()
-            os.fsync(f.fileno())
-        os.chmod(tmp, 0o666 & ~_umask())
-        os.replace(tmp, path)
+        for path, data in files:
+            fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".part",
+                                       dir=path.parent if str(path.parent) else ".")
+            with _WRITING:
+                _temporary.add(tmp)
+            tmps.append(tmp)
+            with os.fdopen(fd, "wb") as f:
+                f.write(data)
+                f.flush()
+                os.fsync(f.fileno())
+            os.chmod(tmp, 0o666 & ~_umask())
+        with _WRITING:
+            if _abandoned:
+                raise KeyboardInterrupt
+            for (path, _), tmp in zip(files, tmps):
+                os.replace(tmp, path)
+                _temporary.discard(tmp)
     except BaseException:
-        try:
-            os.unlink(tmp)
-        except FileNotFoundError:
-            pass
+        with _WRITING:
+            for tmp in tmps:
+                _unlink(tmp)
+                _temporary.discard(tmp)
         raise
+
+
+def _unlink(path):
+    try:
+        os.unlink(path)
+    except FileNotFoundError:
+        pass
 
 
 def _umask():
