@@ -24,6 +24,7 @@ the book's Uint8ClampedArray canvas stores it; render_classic writes uint8.
     image = render_canvas(sph_f, light_i, light_f, 600, 600, depth=3)  # uint8 HxWx3
 """
 import math
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -137,13 +138,15 @@ def reflect_ray(r, n):
 
 
 @jit_step
-def trace_ray(sph_f, light_i, light_f, o, d, t_min, t_max, depth, bg):
-    """TraceRay: (colour on the 0..255 scale, unclamped; rays cast) along o + t d.
+def trace_ray(world, o, d, t_min, t_max, depth):
+    """TraceRay: (colour on the 0..255 scale, unclamped; rays cast) along o + t d
+    in `world` (a World).
 
     The book's recursion  (1 - r) local + r TraceRay(reflected ray, depth - 1)
     unrolled into a loop: `weight` is the product of the r's of the mirrors
     passed so far, and each hit adds its share of its local colour.
     """
+    sph_f = world.sph_f
     color = (0.0, 0.0, 0.0)
     weight = 1.0
     rays = 0
@@ -151,11 +154,12 @@ def trace_ray(sph_f, light_i, light_f, o, d, t_min, t_max, depth, bg):
         k, t = closest_intersection(sph_f, o, d, t_min, t_max)
         rays += 1
         if k == NO_HIT:
-            return madd(color, bg, weight), rays
+            return madd(color, world.background, weight), rays
         p = madd(o, d, t)
         n = unit((p[0] - sph_f[k, 0], p[1] - sph_f[k, 1], p[2] - sph_f[k, 2]))
         v = neg(d)
-        i, shadow_rays = compute_lighting(sph_f, light_i, light_f, p, n, v, sph_f[k, 7])
+        i, shadow_rays = compute_lighting(sph_f, world.light_i, world.light_f, p, n, v,
+                                          sph_f[k, 7])
         rays += shadow_rays
         local = (sph_f[k, 4] * i, sph_f[k, 5] * i, sph_f[k, 6] * i)
         r = sph_f[k, 8]
@@ -194,31 +198,60 @@ def to_byte(c):
     return 0
 
 
+class World(NamedTuple):
+    """What rays meet: the arrays of classic_arrays and the background colour
+    (3 floats, 0..255) of rays that hit nothing."""
+    sph_f: np.ndarray
+    light_i: np.ndarray
+    light_f: np.ndarray
+    background: tuple
+
+
+class View(NamedTuple):
+    """The book's camera: position (3 floats), rotation (float64 [3, 3]), and
+    the viewport's width, height and distance d."""
+    position: tuple
+    rotation: np.ndarray
+    vw: float
+    vh: float
+    d: float
+
+
+@jit_step
+def trace_row(out, row, world, view, depth):
+    """Row `row` of the canvas out: each pixel's colour; returns the rays cast."""
+    ch, cw = out.shape[0], out.shape[1]
+    y = ch * 0.5 - row - 1.0
+    rays = 0
+    for col in range(cw):
+        x = col - cw * 0.5
+        ray_d = rotate(view.rotation, canvas_to_viewport(x, y, cw, ch, view.vw, view.vh, view.d))
+        c, n = trace_ray(world, view.position, ray_d, 1.0, INF, depth)
+        rays += n
+        out[row, col, 0] = to_byte(c[0])
+        out[row, col, 1] = to_byte(c[1])
+        out[row, col, 2] = to_byte(c[2])
+    return rays
+
+
 @jit_parallel
-def render_classic(out, row_rays, rows, sph_f, light_i, light_f, cam_pos, cam_rot, vw, vh,
-                   d, depth, bg):
+def render_classic(out, row_rays, rows, world, view, depth):
     """Trace one ray per pixel of out (uint8 [Ch, Cw, 3]) and store its 0..255 colour.
 
     row_rays[row]: rays cast for that row (primary, shadow, reflected); rows:
-    the order rows are handed to threads (rows.interleaved_rows).  cam_pos, bg:
-    3-tuples of floats (bg on the 0..255 scale); cam_rot: float64 [3, 3]; vw,
-    vh, d: the viewport's size and distance; depth: reflections followed (0:
-    none).  Pixels are independent, so any thread count gives the same image.
+    the order rows are handed to threads (rows.interleaved_rows); world: a
+    World; view: a View; depth: reflections followed (0: none).  Pixels are
+    independent, so any thread count gives the same image.
     """
-    ch, cw = out.shape[0], out.shape[1]
+    # A prange body cannot take a tuple holding arrays from outside (Numba's
+    # parallel gufunc wants arrays or scalars): the groups go in as their
+    # fields and are put together again per row.
+    sph_f, light_i, light_f, background = world
+    position, rotation, vw, vh, d = view
     for k in numba.prange(rows.shape[0]):
-        row = rows[k]
-        y = ch * 0.5 - row - 1.0
-        rays = 0
-        for col in range(cw):
-            x = col - cw * 0.5
-            ray_d = rotate(cam_rot, canvas_to_viewport(x, y, cw, ch, vw, vh, d))
-            c, n = trace_ray(sph_f, light_i, light_f, cam_pos, ray_d, 1.0, INF, depth, bg)
-            rays += n
-            out[row, col, 0] = to_byte(c[0])
-            out[row, col, 1] = to_byte(c[1])
-            out[row, col, 2] = to_byte(c[2])
-        row_rays[row] = rays
+        row_rays[rows[k]] = trace_row(out, rows[k],
+                                      World(sph_f, light_i, light_f, background),
+                                      View(position, rotation, vw, vh, d), depth)
 
 
 def classic_arrays(spheres, lights):
@@ -260,11 +293,11 @@ def render_canvas(sph_f, light_i, light_f, width, height, depth, background=(0, 
     out = np.empty((height, width, 3), dtype=np.uint8)
     rot = np.eye(3) if rotation is None else rotation
     row_rays = np.zeros(height, dtype=np.int64) if rays is None else rays
-    render_classic(out, row_rays, interleaved_rows(height),
-                   np.ascontiguousarray(sph_f, dtype=np.float64).reshape(-1, SPH_FLOATS),
-                   np.ascontiguousarray(light_i, dtype=np.int64).reshape(-1),
-                   np.ascontiguousarray(light_f, dtype=np.float64).reshape(-1, LIGHT_FLOATS),
-                   _floats3(position), np.ascontiguousarray(rot, dtype=np.float64),
-                   float(viewport[0]), float(viewport[1]), float(d), int(depth),
-                   _floats3(background))
+    world = World(np.ascontiguousarray(sph_f, dtype=np.float64).reshape(-1, SPH_FLOATS),
+                  np.ascontiguousarray(light_i, dtype=np.int64).reshape(-1),
+                  np.ascontiguousarray(light_f, dtype=np.float64).reshape(-1, LIGHT_FLOATS),
+                  _floats3(background))
+    view = View(_floats3(position), np.ascontiguousarray(rot, dtype=np.float64),
+                float(viewport[0]), float(viewport[1]), float(d))
+    render_classic(out, row_rays, interleaved_rows(height), world, view, int(depth))
     return out
