@@ -52,7 +52,8 @@ def render(scene: Scene, spp: int | None = None, *, seed: int = 0,
     through mirrors and glass (times their colour), result.aov["normal"] its
     normal facing the camera, both averaged over the pixel's samples; the image
     is the same as without them.  "emission": the light the camera sees emitted
-    there (directly, or in mirrors and through glass).
+    there (directly, or in mirrors and through glass).  "stderr": the per-pixel
+    standard error (result.stderr) among them, for save_image's layers.
     denoise: also denoise the image with Open Image Denoise (pip install
     'rtweekend[denoise]'), fed with those features: result.denoised, beside the
     unbiased result.image; the light seen emitted is kept out of the filter.

@@ -116,8 +116,8 @@ def build_parser():
                    "standard error as channels stderr.R/G/B (default address: tev's own, "
                    "127.0.0.1:14158); none listening: one warning, the render goes on")
     r.add_argument("--aov", metavar="NAMES", help="also save feature images, comma-separated: "
-                   "albedo, normal, emission (.exr: layers NAME.R/G/B; .npy: OUT.NAME.npy "
-                   "beside OUT.npy)")
+                   "albedo, normal, emission, and the per-pixel standard error stderr (.exr: "
+                   "layers NAME.R/G/B; .npy: OUT.NAME.npy beside OUT.npy)")
     cluster = r.add_mutually_exclusive_group()
     cluster.add_argument("--scheduler", metavar="ADDRESS", help="render on the Dask cluster "
                          "of this scheduler (tcp://HOST:8786); same image as here. Needs "

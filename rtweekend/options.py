@@ -82,6 +82,9 @@ SPECULAR_SHARE = 0.02
 PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh", "aov", "denoise", "preview")
 # Feature images a path-traced render can add (film.py: for denoisers).
 AOVS = ("albedo", "normal", "emission")
+# What `aov` can name: the feature images, and the per-pixel standard error
+# (always computed; named, it is saved as a layer beside the image too).
+LAYERS = AOVS + ("stderr",)
 # The numeric options (checks.option holds each one's rule).
 NUMBERS = ("spp", "time", "seed", "width", "height", "max_depth", "threads", "clamp")
 
@@ -170,24 +173,25 @@ class RenderOptions:
     @property
     def features(self):
         """Does the film keep feature images: asked for, or for the denoiser."""
-        return bool(self.aov) or bool(self.denoise)
+        return any(a in AOVS for a in self.aov or ()) or bool(self.denoise)
 
     def _check_aov(self):
-        """aov: None, or names of AOVS (a string of them separated by commas too)."""
+        """aov: None, or names of LAYERS (a string of them separated by commas too)."""
         aov = self.aov
         if aov is None:
             return
         if isinstance(aov, str):
             aov = [a.strip() for a in aov.split(",") if a.strip()]
         if not isinstance(aov, (list, tuple)) or not all(isinstance(a, str) for a in aov):
-            raise SceneError(f"render: aov: expected names among {', '.join(AOVS)}, got {aov!r}")
+            raise SceneError(f"render: aov: expected names among {', '.join(LAYERS)}, "
+                             f"got {aov!r}")
         for a in aov:
-            if a not in AOVS:
-                close = difflib.get_close_matches(a, AOVS, n=1)
+            if a not in LAYERS:
+                close = difflib.get_close_matches(a, LAYERS, n=1)
                 hint = f" (did you mean '{close[0]}'?)" if close else ""
                 raise SceneError(f"render: aov: unknown feature '{a}'{hint}; expected "
-                                 f"{', '.join(AOVS)}")
-        if aov and self.strategy.estimator == "light":
+                                 f"{', '.join(LAYERS)}")
+        if set(aov) & set(AOVS) and self.strategy.estimator == "light":
             raise SceneError(f"render: aov: {self.sampling} traces no paths from the camera, "
                              "so it has no feature images; use a path-tracing sampling")
         object.__setattr__(self, "aov", tuple(dict.fromkeys(aov)) or None)

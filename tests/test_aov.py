@@ -138,3 +138,30 @@ def test_the_emission_feature_is_the_light_seen_directly_or_in_a_mirror(sampling
         assert abs(r.image.mean() - 1.5) < 5 * se
     plain = rt.render(mirror, spp=4, seed=1, sampling=sampling)
     assert np.array_equal(plain.image, r.image)
+
+
+def test_the_standard_error_as_a_layer_is_the_results_and_costs_no_feature_images():
+    scene = rt.load_scene("cornell_box")
+    plain = rt.render(scene, spp=4, width=12, height=10, seed=3)
+    r = Renderer(scene, spp=4, width=12, height=10, seed=3, aov="stderr")
+    assert r.film.albedo.shape[0] == 0          # the kernel keeps no feature images
+    r.add_samples(4)
+    asked = r.result()
+    assert list(asked.aov) == ["stderr"]
+    assert np.array_equal(asked.aov["stderr"], plain.stderr)
+    assert np.array_equal(asked.image, plain.image)
+
+
+def test_the_command_saves_the_standard_error_beside_the_image(tmp_path):
+    import subprocess
+    import sys
+    out = tmp_path / "box.npy"
+    r = subprocess.run([sys.executable, "-m", "rtweekend", "render", "cornell_box", "-o",
+                        str(out), "--spp", "4", "--width", "12", "--height", "10", "--seed", "3",
+                        "--aov", "stderr,albedo", "-q"], capture_output=True, text=True,
+                       timeout=300)
+    assert r.returncode == 0, r.stderr
+    same = rt.render(rt.load_scene("cornell_box"), spp=4, width=12, height=10, seed=3)
+    assert np.array_equal(np.load(tmp_path / "box.stderr.npy"), same.stderr)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["box.albedo.npy", "box.npy",
+                                                          "box.stderr.npy"]

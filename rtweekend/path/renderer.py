@@ -285,5 +285,5 @@ class Renderer:
         denoised = None
         if denoise:
             denoised, stats.denoise_seconds = denoise_image(image, **features)
-        return RenderResult(image, stats, stderr, {k: v for k, v in features.items()
-                                                   if k in wanted}, denoised)
+        layers = {**features, "stderr": stderr}
+        return RenderResult(image, stats, stderr, {k: layers[k] for k in wanted}, denoised)
