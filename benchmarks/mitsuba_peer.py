@@ -345,7 +345,10 @@ def main(argv=None):
                    help="separate renders at 1, 2, 4, ... --spp (for benchmarks/accuracy.py)")
     p.add_argument("--aov", action="store_true", help="with --series: 9 channels, RGB, "
                    "albedo, normal (for benchmarks/denoise.py)")
+    p.add_argument("--quick", action="store_true", help="16 pixels wide, 4 spp (tests)")
     a = p.parse_args(argv)
+    if a.quick:
+        a.size, a.spp = 16, 4
     why = unavailable_reason()
     if why:
         print(json.dumps({"peer": "mitsuba", "available": False, "reason": why}))

@@ -117,7 +117,11 @@ def main(argv=None):
     p.add_argument("--time-limit", type=float, help="stop after the pass that crosses it (s)")
     p.add_argument("--out", type=Path, help="NAME (default: SCENE_SIZE): writes NAME.npy, "
                    "NAME_stderr.npy, NAME.json, NAME.png")
+    p.add_argument("--quick", action="store_true",
+                   help="a 16-pixel-wide image of 64 spp in passes of 16 (tests)")
     a = p.parse_args(argv)
+    if a.quick:
+        a.size, a.spp, a.pass_spp = 16, 64, 16
     peer._setup(a.threads)
     if hasattr(mi, "set_log_level"):
         mi.set_log_level(mi.LogLevel.Warn)

@@ -154,7 +154,11 @@ def main(argv=None):
     p.add_argument("--time-limit", type=float, help="stop after the pass that crosses it (s)")
     p.add_argument("--out", type=Path, default=Path("cornell_smoke"),
                    help="NAME: writes NAME.npy, NAME_stderr.npy, NAME.json, NAME.png")
+    p.add_argument("--quick", action="store_true",
+                   help="a 16x16 image of 64 spp in passes of 16 (tests)")
     a = p.parse_args(argv)
+    if a.quick:
+        a.size, a.spp, a.pass_spp = 16, 64, 16
     settings = dict(scene="cornell_smoke", out=a.out.name,
                     convention="mitsuba_peer (pixel squares, box filter, row 0 top)")
     _, _, info = render(a.size, a.size, a.spp, a.pass_spp, a.seed, a.threads,

@@ -285,3 +285,44 @@ def test_light_pick_benchmark_quick(tmp_path):
     assert r.returncode == 0, r.stderr
     lines = [line for line in r.stdout.splitlines() if "efficiency x" in line]
     assert [line.split()[0] for line in lines] == ["simple_light", "bright_and_dim"]
+
+
+# -- the Mitsuba 3 scripts (the peer and the references' makers) -------------------
+
+def _mitsuba(script, *args, cwd=None):
+    pytest.importorskip("mitsuba", reason="needs the peer extra")
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / script), "--quick", *args],
+                       capture_output=True, text=True, timeout=600, cwd=cwd)
+    assert r.returncode == 0, r.stderr[-2000:]
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def test_mitsuba_reference_quick_agrees_with_rtweekend(tmp_path):
+    info = _mitsuba("mitsuba_reference.py", "cornell_box", "--out", str(tmp_path / "box"))
+    assert info["spp_done"] == 64 and info["passes_done"] == 4
+    image, stderr = np.load(tmp_path / "box.npy"), np.load(tmp_path / "box_stderr.npy")
+    assert image.shape == stderr.shape == (16, 16, 3) and np.isfinite(image).all()
+    assert (tmp_path / "box.png").stat().st_size > 0
+    # The independent renderer and ours see the same room: their means agree
+    # within 5 standard errors of the difference of the means.
+    import rtweekend as rt
+    ours = rt.render(rt.load_scene("cornell_box"), spp=256, width=16, height=16, seed=1)
+    n = image.size
+    sigma = np.sqrt((stderr ** 2).sum() + (ours.stderr.astype(np.float64) ** 2).sum()) / n
+    assert abs(image.mean() - ours.image.mean()) < 5 * sigma, (image.mean(), ours.image.mean())
+
+
+def test_mitsuba_smoke_reference_quick(tmp_path):
+    info = _mitsuba("mitsuba_smoke.py", "--out", str(tmp_path / "smoke"))
+    assert info["spp_done"] == 64 and info["stencil_below_floor"] > 0
+    image = np.load(tmp_path / "smoke.npy")
+    assert image.shape == (16, 16, 3) and np.isfinite(image).all() and image.mean() > 0
+
+
+def test_mitsuba_peer_quick_series_with_features(tmp_path):
+    info = _mitsuba("mitsuba_peer.py", "cornell_glass", "--series", "--aov", "--save",
+                    str(tmp_path / "peer.npz"))
+    assert info["available"] and info["spp"] == [1, 2, 4] and info["width"] == 16
+    with np.load(tmp_path / "peer.npz") as f:
+        assert f["images"].shape == (3, 16, 16, 9) and list(f["spp"]) == [1, 2, 4]
+        assert np.isfinite(f["images"]).all()
