@@ -1,6 +1,8 @@
 """What a render returns: the image, its standard error, and the stats."""
 from dataclasses import dataclass
 
+import numpy as np
+
 FIREFLY_FACTOR = 100.0   # a firefly: a sample worth this many times the image mean
 
 
@@ -97,7 +99,9 @@ class RenderResult:
     (HxWx3 float32; None otherwise); image stays the unbiased one.
     """
 
-    def __init__(self, image, stats, stderr, aov=None, denoised=None):
+    def __init__(self, image: np.ndarray, stats: RenderStats, stderr: np.ndarray,
+                 aov: dict[str, np.ndarray] | None = None,
+                 denoised: np.ndarray | None = None):
         self.image, self.stats, self.stderr = image, stats, stderr
         self.aov = aov or {}
         self.denoised = denoised

@@ -212,3 +212,16 @@ def test_every_public_name_is_documented_and_dir_shows_only_them():
     assert [n for n in dir(rt) if not n.startswith("_")] == sorted(rt.__all__)
     hints = rt.render.__annotations__
     assert hints["spp"] == int | None and "return" in hints
+
+
+def test_every_public_function_and_constructor_has_type_hints():
+    import inspect
+    for name in rt.__all__:
+        thing = getattr(rt, name)
+        if not callable(thing) or inspect.isclass(thing) and issubclass(thing, Warning | Exception):
+            continue
+        f = thing.__init__ if inspect.isclass(thing) else thing
+        params = [p for p in inspect.signature(f).parameters.values()
+                  if p.name != "self" and p.kind not in (p.VAR_KEYWORD, p.VAR_POSITIONAL)]
+        missing = [p.name for p in params if p.annotation is inspect.Parameter.empty]
+        assert not missing, f"rt.{name}: no type hint for {', '.join(missing)}"

@@ -6,6 +6,7 @@ truncated file behind.
 """
 import io
 import os
+from collections.abc import Mapping
 import tempfile
 import threading
 from pathlib import Path
@@ -13,11 +14,12 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import OutputError
+from ..result import RenderResult
 from .formats import FORMATS, HDR, LDR  # noqa: F401
 
 
 
-def tonemap(image, exposure=1.0):
+def tonemap(image: np.ndarray | RenderResult, exposure: float = 1.0) -> np.ndarray:
     """HxWx3 linear radiance -> HxWx3 uint8, as the PNG writer does: the books'
     write_color, gamma 2 (sqrt), clamp to [0, 0.999], x256; `exposure`
     multiplies the radiance first (2: one stop brighter).
@@ -108,7 +110,9 @@ def layer_path(path, name):
     return path.with_name(f"{path.stem}.{name}{path.suffix}")
 
 
-def save_image(image, path, layers=None, metadata=None):
+def save_image(image: np.ndarray | RenderResult, path: str | Path,
+               layers: Mapping[str, np.ndarray] | None = None,
+               metadata: Mapping[str, object] | None = None) -> None:
     """Write `image` to `path`, atomically; the format follows the extension.
 
     image: an HxWx3 array of linear radiance, or what render() returned (the

@@ -23,6 +23,7 @@ from ..errors import FieldError, SceneError, SceneWarning
 from ..kernel.rows import interleaved_rows, on_threads
 from ..options import RenderOptions, thread_count
 from ..result import RenderResult, RenderStats
+from ..scene.scene import Scene
 from . import film as films
 from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
@@ -159,7 +160,7 @@ class Renderer:
     fields of RenderOptions.
     """
 
-    def __init__(self, scene, options=None, **fields):
+    def __init__(self, scene: Scene, options: RenderOptions | None = None, **fields):
         if options is None:
             options = RenderOptions.named("Renderer", "path", **fields)
         elif fields:
@@ -180,7 +181,7 @@ class Renderer:
         self.threads = None        # Numba threads of the last pass here
         self._preview = None       # show()'s display in a notebook
 
-    def compile(self):
+    def compile(self) -> float:
         """Compile the kernel (or load it from the cache) with no samples."""
         t0 = _time.perf_counter()
         with collector_paused(), thread_count(self.options.threads):
@@ -188,7 +189,7 @@ class Renderer:
         self.compile_seconds = _time.perf_counter() - t0
         return self.compile_seconds
 
-    def show(self):
+    def show(self) -> None:
         """In a Jupyter notebook: show the result so far, in one display that
         later calls update in place (step-by-step rendering)."""
         from ..io.preview import NotebookPreview, require
@@ -198,7 +199,7 @@ class Renderer:
         else:
             self._preview.update(self, final=True)
 
-    def add_samples(self, n):
+    def add_samples(self, n: int) -> float:
         """Render samples spp .. spp + n - 1 of every pixel here, with the options'
         threads (None: as many as Numba has); returns the seconds."""
         n = self._count(n, "add_samples")
@@ -213,7 +214,7 @@ class Renderer:
         self.seconds += dt
         return dt
 
-    def add_rows(self, n, count):
+    def add_rows(self, n: int, count: int) -> float:
         """Render samples spp .. spp + n - 1 of the next `count` rows (in
         frame.rows order) of a pass over part of the rows; when every row has
         them, spp becomes spp + n.  The bits are those of add_samples(n).

@@ -9,6 +9,7 @@ import math
 from dataclasses import dataclass
 
 from . import fields
+from .fields import Vec3
 from .. import checks
 from ..errors import FieldError, SceneError
 
@@ -36,17 +37,17 @@ def _light(kind, intensity, field=None, vector=None):
     return ClassicLight(kind, intensity, vector)
 
 
-def ambient(intensity):
+def ambient(intensity: float) -> ClassicLight:
     """Computer Graphics from Scratch's ambient light: `intensity` everywhere."""
     return _light("ambient", intensity)
 
 
-def point(intensity, position):
+def point(intensity: float, position: Vec3) -> ClassicLight:
     """A point light of `intensity` at `position` (the book's point light)."""
     return _light("point", intensity, "position", position)
 
 
-def directional(intensity, direction):
+def directional(intensity: float, direction: Vec3) -> ClassicLight:
     """A light from infinitely far away; `direction` points towards the light."""
     return _light("directional", intensity, "direction", direction)
 

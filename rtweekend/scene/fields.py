@@ -1,8 +1,15 @@
 """Checks for one field of a scene object: each returns the clean value or
 raises FieldError naming the field.  Shared by the builder and the loader."""
+from collections.abc import Sequence
+
 from .. import checks
 from ..checks import LARGEST, MAX_SIZE, SMALLEST, length  # noqa: F401  (the bounds, here too)
 from ..errors import FieldError
+
+# What the builders' signatures say a value is (the checks accept any sequence
+# of three numbers, NumPy arrays too).
+Vec3 = Sequence[float]                 # a point or a direction: (x, y, z)
+Color = Sequence[float]                # (r, g, b): linear, or 0..255 for phong
 
 _show = checks.show
 

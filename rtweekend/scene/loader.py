@@ -44,7 +44,7 @@ def bundled_dir():
         return Path(__file__).resolve().parent.parent.parent / "scenes"
 
 
-def bundled_scenes():
+def bundled_scenes() -> dict[str, str]:
     """{name: description} of the scenes shipped with rtweekend."""
     out = {}
     for entry in sorted(bundled_dir().iterdir(), key=lambda e: e.name):
@@ -79,7 +79,7 @@ def resolve(name_or_path):
     return f"{name_or_path}.toml", entry.read_text(encoding="utf-8")
 
 
-def load_scene(name_or_path):
+def load_scene(name_or_path: str | Path) -> Scene:
     """Load a scene file (or a bundled scene by name) into a Scene."""
     where, source = resolve(name_or_path)
     try:

@@ -9,6 +9,7 @@ field.  `kind` is the material's name as written in a scene file.
 from dataclasses import dataclass
 
 from . import fields
+from .fields import Color
 from ..errors import FieldError, checked
 from .textures import Texture, texture_or_color
 
@@ -39,14 +40,15 @@ def _colour(value, field, hi=None):
 
 
 @checked("lambertian")
-def lambertian(albedo, *, name=None):
+def lambertian(albedo: Color | Texture, *, name: str | None = None) -> Material:
     """albedo: a colour or a texture (textures.py)."""
     color, texture = _colour(albedo, "albedo", hi=1.0)
     return Material("lambertian", color, 0.0, name, texture=texture)
 
 
 @checked("metal")
-def metal(albedo, fuzz=0.0, *, name=None):
+def metal(albedo: Color | Texture, fuzz: float = 0.0, *,
+          name: str | None = None) -> Material:
     """The books' metal: reflects with colour `albedo`, the direction blurred by
     a random point of a sphere of radius `fuzz` (0: a mirror; clamped at 1)."""
     # The book clamps fuzz to 1; a negative fuzz is a mistake, not a clamp.
@@ -55,7 +57,7 @@ def metal(albedo, fuzz=0.0, *, name=None):
 
 
 @checked("dielectric")
-def dielectric(ior, *, name=None):
+def dielectric(ior: float, *, name: str | None = None) -> Material:
     """The books' glass of index of refraction `ior`: reflects with Schlick's
     probability (always under total internal reflection), else refracts."""
     return Material("dielectric", (1.0, 1.0, 1.0),
@@ -63,14 +65,15 @@ def dielectric(ior, *, name=None):
 
 
 @checked("diffuse_light")
-def diffuse_light(emit, *, name=None):
+def diffuse_light(emit: Color | Texture, *, name: str | None = None) -> Material:
     """emit: the radiance of its front side, a colour or a texture."""
     color, texture = _colour(emit, "emit")
     return Material("diffuse_light", color, 0.0, name, texture=texture)
 
 
 @checked("isotropic")
-def isotropic(albedo, density=1.0, *, name=None):
+def isotropic(albedo: Color | Texture, density: float = 1.0, *,
+              name: str | None = None) -> Material:
     """The phase function of a constant medium (shapes.constant_medium): it
     scatters uniformly in all directions, keeping `albedo` (a colour or a
     texture) of the light; `density` is its extinction per unit length."""
@@ -80,7 +83,8 @@ def isotropic(albedo, density=1.0, *, name=None):
 
 
 @checked("phong")
-def phong(color, specular=-1, reflective=0.0, *, name=None):
+def phong(color: Color, specular: float = -1, reflective: float = 0.0, *,
+          name: str | None = None) -> Material:
     """Computer Graphics from Scratch's material (classic integrator only):
     a 0..255 colour, a Phong exponent (-1: matte) and a mirror share."""
     specular = fields.number(specular, "specular")

@@ -12,6 +12,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from . import fields
+from .fields import Color, Vec3
+from .textures import Texture
 from ..errors import FieldError, SceneError, checked, label
 from .materials import Material, check_material, isotropic
 
@@ -94,7 +96,8 @@ class Shape:
 
 
 @checked("sphere")
-def sphere(center, radius, material, center1=None, *, name=None):
+def sphere(center: Vec3, radius: float, material: Material, center1: Vec3 | None = None, *,
+           name: str | None = None) -> Shape:
     """A negative radius makes the book-1 hollow bubble (normals point inward).
     center1: the centre at the end of the shutter (time 1), for motion blur;
     the sphere moves in a straight line from `center` (time 0)."""
@@ -120,28 +123,31 @@ def _interval(lo, hi, lo_name, hi_name):
 
 
 @checked("xy_rect")
-def xy_rect(x0, x1, y0, y1, k, material, *, name=None):
+def xy_rect(x0: float, x1: float, y0: float, y1: float, k: float, material: Material, *,
+            name: str | None = None) -> Shape:
     """The books' rectangle [x0, x1] x [y0, y1] in the plane z = k, facing +z."""
     return Shape("xy_rect", (*_interval(x0, x1, "x0", "x1"), *_interval(y0, y1, "y0", "y1"),
                              fields.number(k, "k")), check_material(material), name=name)
 
 
 @checked("xz_rect")
-def xz_rect(x0, x1, z0, z1, k, material, *, name=None):
+def xz_rect(x0: float, x1: float, z0: float, z1: float, k: float, material: Material, *,
+            name: str | None = None) -> Shape:
     """The books' rectangle [x0, x1] x [z0, z1] in the plane y = k, facing +y."""
     return Shape("xz_rect", (*_interval(x0, x1, "x0", "x1"), *_interval(z0, z1, "z0", "z1"),
                              fields.number(k, "k")), check_material(material), name=name)
 
 
 @checked("yz_rect")
-def yz_rect(y0, y1, z0, z1, k, material, *, name=None):
+def yz_rect(y0: float, y1: float, z0: float, z1: float, k: float, material: Material, *,
+            name: str | None = None) -> Shape:
     """The books' rectangle [y0, y1] x [z0, z1] in the plane x = k, facing +x."""
     return Shape("yz_rect", (*_interval(y0, y1, "y0", "y1"), *_interval(z0, z1, "z0", "z1"),
                              fields.number(k, "k")), check_material(material), name=name)
 
 
 @checked("box")
-def box(p0, p1, material, *, name=None):
+def box(p0: Vec3, p1: Vec3, material: Material, *, name: str | None = None) -> Shape:
     """The axis-aligned box with opposite corners p0 and p1."""
     p0, p1 = fields.vec3(p0, "p0"), fields.vec3(p1, "p1")
     for axis, a, b in zip("xyz", p0, p1):
@@ -156,7 +162,8 @@ def box(p0, p1, material, *, name=None):
 
 
 @checked("quad")
-def quad(Q, u, v, material, *, name=None):
+def quad(Q: Vec3, u: Vec3, v: Vec3, material: Material, *,
+         name: str | None = None) -> Shape:
     """The Next Week v4's quadrilateral: the parallelogram with corner Q and edges
     u and v; its front side is the one u x v points to."""
     Q, u, v = fields.vec3(Q, "Q"), fields.vec3(u, "u"), fields.vec3(v, "v")
@@ -173,7 +180,8 @@ def quad(Q, u, v, material, *, name=None):
 
 
 @checked("constant_medium")
-def constant_medium(boundary, density, albedo, *, name=None):
+def constant_medium(boundary: Shape, density: float, albedo: Color | Texture, *,
+                    name: str | None = None) -> Shape:
     """The Next Week's constant medium: the volume inside `boundary` (a sphere or
     a box, with any placement; its material is not used) filled with a
     participating medium of `density` (extinction per unit length) that scatters

@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import fields
+from .fields import Color
 from ..errors import FieldError, checked
 
 NOISE_STYLES = ("noise", "turbulence", "marble")
@@ -79,13 +80,14 @@ def _as_texture(value, field):
 
 
 @checked("solid_color")
-def solid_color(color, *, name=None):
+def solid_color(color: Color, *, name: str | None = None) -> Texture:
     """A texture of one colour everywhere (the books' solid_color)."""
     return Texture("solid", fields.color(color, "color"), name=name)
 
 
 @checked("checker_texture")
-def checker_texture(even, odd, scale=10.0, *, name=None):
+def checker_texture(even: Color | Texture, odd: Color | Texture, scale: float = 10.0, *,
+                    name: str | None = None) -> Texture:
     """The Next Week's 3-D checker: `even` where sin(s x) sin(s y) sin(s z) >= 0,
     `odd` elsewhere (s = scale); even and odd are colours or textures."""
     return Texture("checker", even=_as_texture(even, "even"), odd=_as_texture(odd, "odd"),
@@ -93,7 +95,8 @@ def checker_texture(even, odd, scale=10.0, *, name=None):
 
 
 @checked("noise_texture")
-def noise_texture(scale=1.0, style="marble", seed=0, *, name=None):
+def noise_texture(scale: float = 1.0, style: str = "marble", seed: int = 0, *,
+                  name: str | None = None) -> Texture:
     """Perlin noise (trilinear interpolation of random gradients, Hermite
     smoothed), as the book builds it up:
       noise       0.5 (1 + noise(scale p))              grey, in [0, 1]
@@ -109,7 +112,8 @@ def noise_texture(scale=1.0, style="marble", seed=0, *, name=None):
 
 
 @checked("image_texture")
-def image_texture(file, *, name=None, base=None):
+def image_texture(file: str | Path, *, name: str | None = None,
+                  base: str | Path | None = None) -> Texture:
     """An image (PNG, JPEG, ... anything imageio reads) wrapped on a sphere by its
     (u, v) or stretched over a rect or quad.  A relative path is taken from
     `base` (the scene file's folder) or the current one."""
