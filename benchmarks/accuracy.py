@@ -25,6 +25,13 @@ the fraction of NaN/Inf samples (Mitsuba: of pixel values); fits the slope of lo
 RMSE against log seconds (ideal: -1/2); and an equal-time table: each strategy's
 RMSE interpolated (log-log) at Mitsuba's times, and its ratio to Mitsuba's RMSE.
 
+Denoised (with the `denoise` extra; --no-denoise leaves it out): the scene's
+default sampling rendered again with denoise=True, the denoised image's error
+after every doubling of spp at the render's time plus the denoiser's, and
+Mitsuba's --aov renders denoised the same way (OIDN with albedo and normal);
+and the time where the denoised curve meets the unbiased one -- beyond it the
+denoiser's bias is larger than the noise it removes.
+
 Writes benchmark-results/accuracy.json, benchmark-results/accuracy.png (log-log error vs seconds,
 one line per strategy and Mitsuba) and benchmark-results/accuracy_crops.png (equal-time
 crops).  --quick runs a tiny version (seconds, cornell_box and cornell_glass unless
@@ -127,6 +134,71 @@ def measure(scene, cfg, sampling, ref, ref_var, threads, cover=0.0):
               f"relMSE {relmse:.3e}", flush=True)
         target *= 2
     return rows, compile_seconds
+
+
+# ---------------------------------------------------------------- denoised --
+def can_denoise(args):
+    """Whether to chart the denoised curves (said in one line when not)."""
+    if args.no_denoise:
+        return False
+    try:
+        import pyoidn  # noqa: F401
+    except ImportError:
+        print("Open Image Denoise not installed: pip install '.[denoise]'; no denoised curves")
+        return False
+    return True
+
+
+def measure_denoised(scene, cfg, ref, ref_var, threads):
+    """The scene's default sampling with denoise=True, after every doubling of
+    spp: the denoised image's errors at the render's seconds plus the denoiser's."""
+    warm = rt.Renderer(scene, seed=0, width=16, height=16, threads=threads, denoise=True)
+    warm.compile()
+    warm.add_samples(1)
+    warm.result()                            # OIDN's first call sets it up
+    r = rt.Renderer(scene, seed=SEED, width=cfg["width"], height=cfg["height"],
+                    threads=threads, denoise=True)
+    r.compile()
+    rows, target = [], 1
+    while target <= cfg["max_spp"]:
+        r.add_samples(target - r.spp)
+        result = r.result()
+        rmse, raw, relmse, _ = errors(result.denoised, ref, ref_var)
+        seconds = r.seconds + result.stats.denoise_seconds
+        rows.append(dict(spp=r.spp, seconds=seconds, render_seconds=r.seconds, rmse=rmse,
+                         rmse_raw=raw, relmse=relmse))
+        print(f"  {'denoised':8s} {r.spp:5d} spp {seconds:8.2f} s  RMSE {rmse:.5f}", flush=True)
+        target *= 2
+    return r.options.sampling, rows
+
+
+def measure_peer_denoised(peer, name, scene, cfg, ref, ref_var, threads):
+    """Mitsuba's --aov renders denoised by OIDN with its albedo and normal, at its
+    time plus the denoiser's; None without Mitsuba."""
+    import mitsuba_peer
+    points, _ = peer.series(name, scene, cfg, cfg["max_spp"], threads, aov=True)
+    if points is None:
+        return None
+    rows = []
+    for spp, seconds, image in points:
+        t0 = time.perf_counter()
+        den = mitsuba_peer.denoised(image)
+        seconds += time.perf_counter() - t0
+        rmse, raw, relmse, _ = errors(den, ref, ref_var)
+        rows.append(dict(spp=spp, seconds=seconds, rmse=rmse, rmse_raw=raw, relmse=relmse))
+        print(f"  {'Mitsuba denoised':8s} {spp:5d} spp {seconds:8.2f} s  RMSE {rmse:.5f}",
+              flush=True)
+    return rows
+
+
+def where_curves_meet(denoised, unbiased):
+    """The first of the denoised curve's times at which the unbiased curve's
+    error is as low (None: the denoised one leads wherever both were measured)."""
+    for p in denoised:
+        raw = rmse_at(unbiased, p["seconds"])
+        if raw is not None and raw <= p["rmse"]:
+            return p["seconds"]
+    return None
 
 
 # ------------------------------------------------------------------ the peer --
@@ -291,6 +363,17 @@ def chart(data, path):
             ax.loglog([p["seconds"] for p in rows], [p["rmse"] for p in rows], "s--",
                       color=PEER_COLOR, ms=3,
                       label=f"Mitsuba 3, path (slope {d['peer']['slope']:+.2f})")
+        den = d.get("denoised")
+        if den:
+            s = den["sampling"]
+            ax.loglog([p["seconds"] for p in den["rows"]], [p["rmse"] for p in den["rows"]],
+                      "x--", color=palette.get(s), ms=4, label=f"{s}, denoised (OIDN)")
+            if den["meets"]:
+                ax.axvline(den["meets"], color=palette.get(s), lw=0.8, ls=":")
+            if den["peer"]:
+                rows = den["peer"]
+                ax.loglog([p["seconds"] for p in rows], [p["rmse"] for p in rows], "+:",
+                          color=PEER_COLOR, ms=5, label="Mitsuba 3, denoised (OIDN)")
         guide = d["curves"][d["equal_time"]["base"]]
         t0, e0 = guide[0]["seconds"], guide[0]["rmse"]
         ts = np.array([t0, guide[-1]["seconds"]])
@@ -298,7 +381,7 @@ def chart(data, path):
         ax.axhline(d["reference_noise_rms"], color="black", lw=0.8, ls="-.",
                    label="reference's own noise (taken out)")
         ax.set_title(f"{name} {d['width']}x{d['height']}\nvs {d['reference']}", fontsize=9)
-        ax.set_xlabel(f"seconds ({data['threads']} threads)")
+        ax.set_xlabel(f"seconds ({data['threads']} threads; denoised: the denoiser's included)")
         ax.set_ylabel("RMSE of linear radiance, the reference's noise out")
         ax.legend(fontsize=8)
         ax.grid(True, which="both", alpha=0.3)
@@ -347,6 +430,8 @@ def main(argv=None):
                         help="run Mitsuba with this interpreter (e.g. its own venv's python; "
                              "env RTWEEKEND_PEER_PYTHON)")
     parser.add_argument("--no-peer", action="store_true", help="leave Mitsuba out")
+    parser.add_argument("--no-denoise", action="store_true", help="leave the denoised "
+                        "curves out")
     parser.add_argument("--scenes", help=f"comma-separated, of {', '.join(FULL)} "
                         "(default: all; with --quick, cornell_box and cornell_glass)")
     args = parser.parse_args(argv)
@@ -359,6 +444,7 @@ def main(argv=None):
     config = {n: config[n] for n in names}
     start = time.perf_counter()
     peer = find_peer(args)
+    denoising = can_denoise(args)
     data = dict(machine=machine(), quick=args.quick, threads=args.threads,
                 references=str(REFERENCES), peer=peer.how if peer else None, scenes={})
     crop_images = {}
@@ -394,6 +480,12 @@ def main(argv=None):
             slopes={s: fitted_slope(rows) for s, rows in curves.items()},
             equal_time=equal_time(curves), peer=peer_data,
             vs_peer=versus_peer(curves, peer_data["rows"]) if peer_data else [])
+        if denoising:
+            sampling, rows = measure_denoised(scene, cfg, ref, ref_var, args.threads)
+            data["scenes"][name]["denoised"] = dict(
+                sampling=sampling, rows=rows, meets=where_curves_meet(rows, curves[sampling]),
+                peer=measure_peer_denoised(peer, name, scene, cfg, ref, ref_var, args.threads)
+                if peer_data else None)
         crop_images[name] = (found[0], crops(scene, cfg, args.threads), cfg["crop_seconds"],
                              peer_crop(peer_images, cfg["crop_seconds"]) if peer_images else [])
     if not data["scenes"]:
@@ -430,6 +522,13 @@ def summary(data):
         print(f"  at {eq['seconds']:.2f} s: " + ", ".join(
             f"{s} RMSE {eq['rmse'][s]:.4f} ({time_factor(eq, s)})"
             for s in eq["rmse"] if eq["rmse"][s]))
+        den = d.get("denoised")
+        if den:
+            meets = (f"meets the unbiased curve at {den['meets']:.2f} s" if den["meets"] else
+                     "ahead of the unbiased curve wherever both were measured")
+            print(f"  {den['sampling']} denoised: RMSE {den['rows'][0]['rmse']:.4f} at "
+                  f"{den['rows'][0]['seconds']:.2f} s .. {den['rows'][-1]['rmse']:.4f} at "
+                  f"{den['rows'][-1]['seconds']:.2f} s; {meets}")
         if d["vs_peer"]:
             print(equal_time_table(name, d))
 

@@ -110,7 +110,7 @@ def curves(scene, size, max_spp, threads, ref):
 def peer_curves(args, name, size, max_spp, threads, ref):
     """Mitsuba's renders, raw and denoised with its albedo and normal; None
     without Mitsuba (said in one line)."""
-    import pyoidn
+    import mitsuba_peer
     from accuracy import find_peer
     peer = find_peer(args)
     if peer is None:
@@ -122,12 +122,8 @@ def peer_curves(args, name, size, max_spp, threads, ref):
         return None
     rows = []
     for spp, seconds, image in points:
-        image = np.asarray(image, dtype=np.float32)
         t0 = time.perf_counter()
-        den = pyoidn.denoise(np.ascontiguousarray(image[..., :3]),
-                             albedo=np.ascontiguousarray(np.clip(image[..., 3:6], 0, 1)),
-                             normal=np.ascontiguousarray(np.clip(image[..., 6:9], -1, 1)),
-                             hdr=True)
+        den = mitsuba_peer.denoised(image)
         dt = time.perf_counter() - t0
         rows.append(dict(spp=spp, seconds=seconds, raw=rmse(image[..., :3], ref),
                          denoised=rmse(den, ref), denoised_seconds=seconds + dt))

@@ -316,6 +316,18 @@ def series(scene, spps, seed=0, pass_spp=64, threads=None, info=None, aov=False)
     return out
 
 
+def denoised(image):
+    """An --aov image (9 channels: RGB, albedo, normal) denoised by Open Image
+    Denoise with its albedo and normal, as rtweekend's --denoise feeds it
+    (Mitsuba has no feature for the light seen emitted: it is filtered too)."""
+    import pyoidn
+    image = np.asarray(image, dtype=np.float32)
+    return pyoidn.denoise(np.ascontiguousarray(image[..., :3]),
+                          albedo=np.ascontiguousarray(np.clip(image[..., 3:6], 0, 1)),
+                          normal=np.ascontiguousarray(np.clip(image[..., 6:9], -1, 1)),
+                          hdr=True)
+
+
 def _render_passes(mscene, spp, pass_spp, seed, warm_up=False):
     """The mean of spp samples per pixel, rendered in passes of at most pass_spp
     (pass i uses Mitsuba seed seed * 100003 + i; a warm-up pass, 99999); every

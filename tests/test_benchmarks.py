@@ -41,6 +41,11 @@ def test_accuracy_benchmark_quick(tmp_path):
             assert all(p["rmse"] > 0 and p["nan_fraction"] == 0 for p in rows)
             times = [p["seconds"] for p in rows]
             assert times == sorted(times)
+        den = scene["denoised"]             # the denoise extra is in the test extra
+        assert den["sampling"] in scene["curves"] and [p["spp"] for p in den["rows"]][:3] == \
+            [1, 2, 4]
+        assert all(p["rmse"] > 0 and p["seconds"] > p["render_seconds"] for p in den["rows"])
+        assert (den["peer"] is None) == (scene["peer"] is None)
         if scene["peer"] is None:            # Mitsuba is optional: one line says so
             assert scene["vs_peer"] == []
             assert "Mitsuba not installed: pip install '.[peer]'" in r.stdout
