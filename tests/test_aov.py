@@ -165,3 +165,45 @@ def test_the_command_saves_the_standard_error_beside_the_image(tmp_path):
     assert np.array_equal(np.load(tmp_path / "box.stderr.npy"), same.stderr)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["box.albedo.npy", "box.npy",
                                                           "box.stderr.npy"]
+
+
+def _sphere_normals_over_pixels(scene, sub=16):
+    """The mean over each pixel's area (a sub x sub grid of points) of the
+    analytic normal where the camera ray meets the scene's one sphere, and
+    whether every point of the pixel meets it; from the camera's own mapping
+    (pack_camera: pixel (i, j) covers [i, i+1) x [j, j+1) of the viewport)."""
+    from rtweekend.path.camera import pack_camera
+    c = scene.camera
+    cam = pack_camera(c)
+    origin, corner, horizontal, vertical = cam[0:3], cam[3:6], cam[6:9], cam[9:12]
+    center, radius = (np.asarray(v, dtype=np.float64) for v in scene.objects[0].geometry)
+    offsets = (np.arange(sub) + 0.5) / sub
+    x = (np.arange(c.width)[:, None] + offsets[None, :]).ravel() / c.width
+    y = (np.arange(c.height)[:, None] + offsets[None, :]).ravel() / c.height
+    s, t = np.meshgrid(x, y)                           # [H*sub, W*sub]
+    d = corner + s[..., None] * horizontal - t[..., None] * vertical - origin
+    d /= np.linalg.norm(d, axis=-1, keepdims=True)
+    oc = origin - center
+    b = (d * oc).sum(-1)
+    disc = b * b - (oc @ oc - radius * radius)
+    hit = disc > 0
+    dist = -b - np.sqrt(np.where(hit, disc, 0.0))
+    n = (origin + dist[..., None] * d - center) / radius
+    shape = (c.height, sub, c.width, sub)
+    mean = n.reshape(*shape, 3).mean(axis=(1, 3))
+    return mean, hit.reshape(shape).all(axis=(1, 3))
+
+
+@pytest.mark.parametrize("sampling", ["mixture+sobol", "bdpt+sobol"])
+def test_a_spheres_normal_feature_is_its_analytic_normal_over_each_pixel(sampling):
+    scene = rt.Scene(camera=rt.Camera(lookfrom=(0.3, -0.2, 0), lookat=(0, 0, -10), vfov=30,
+                                      width=16, height=16))
+    scene.add(rt.sphere((0, 0, -10), 2.4, rt.lambertian((0.5, 0.5, 0.5))))
+    scene.add(rt.xz_rect(-50, 50, -50, 50, 20, rt.diffuse_light((2, 2, 2))).flip_face(),
+              light=True)
+    r = rt.render(scene, spp=256, seed=1, sampling=sampling, aov="normal")
+    expected, inside = _sphere_normals_over_pixels(scene)
+    assert inside.sum() > 100                        # most of the image is sphere
+    # Sobol pixel positions: 256 stratified points per pixel, whose mean normal
+    # is within 1e-4 of the area's (a shift of half a pixel would be ~3e-2).
+    np.testing.assert_allclose(r.aov["normal"][inside], expected[inside], atol=1e-3)
