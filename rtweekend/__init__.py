@@ -22,7 +22,7 @@ from .version import version as _version
 from .scene import (SKY, Camera, ClassicCamera, Scene, ambient, box, bundled_scenes,
                     checker_texture, constant_medium, dielectric, diffuse_light, directional,
                     image_texture, isotropic, lambertian, load_scene, metal, noise_texture,
-                    phong, point, quad, solid_color, sphere, xy_rect, xz_rect, yz_rect)
+                    mesh, phong, point, quad, solid_color, sphere, xy_rect, xz_rect, yz_rect)
 
 __version__ = _version()
 
@@ -31,7 +31,8 @@ __all__ = [
     "save_image", "tonemap",
     "render", "Renderer", "RenderResult", "RenderStats", "Scene", "Camera", "SKY",
     "lambertian", "metal", "dielectric", "diffuse_light",
-    "sphere", "xy_rect", "xz_rect", "yz_rect", "box", "quad", "constant_medium", "isotropic",
+    "sphere", "xy_rect", "xz_rect", "yz_rect", "box", "quad", "mesh", "constant_medium",
+    "isotropic",
     "solid_color", "checker_texture", "noise_texture", "image_texture",
     "phong", "ambient", "point", "directional", "ClassicCamera",
 ]

@@ -29,7 +29,8 @@ XY_RECT = 2          # the book's rects, not turned: tested on their own axis
 XZ_RECT = 3
 YZ_RECT = 4
 BOX = 5              # a box turned by rotate_y and moved: one slab test
-PRIMITIVE_KINDS = (SPHERE, RECT, XY_RECT, XZ_RECT, YZ_RECT, BOX)
+TRIANGLE = 6         # a mesh's face (shapes/triangle.py; the mesh tables: Triangles)
+PRIMITIVE_KINDS = (SPHERE, RECT, XY_RECT, XZ_RECT, YZ_RECT, BOX, TRIANGLE)
 
 # Material kinds (mat_i), by the description's names; materials.py dispatches on them.
 LAMBERTIAN = 0
@@ -87,6 +88,15 @@ class SceneArrays(NamedTuple):
     bvh_box: np.ndarray    # the hierarchy (bvh.py); empty for small scenes
     bvh_node: np.ndarray
     bvh_prims: np.ndarray
+    # The meshes' tables, None in a scene without meshes: then the kernels
+    # compile none of the triangle's code (shapes/triangle.py).
+    tris: object = None
+
+
+class Triangles(NamedTuple):
+    """What a mesh's triangles have beyond their rows of obj_f, by the row's
+    INDEX (shapes/triangle.py)."""
+    uvs: np.ndarray        # float64 [T, 6]: (u, v) at P0, P1, P2; [0, 6]: none
 
 
 class PathParams(NamedTuple):

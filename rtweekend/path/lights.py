@@ -31,8 +31,9 @@ from ..kernel.jit import jit_step
 from . import shapes
 from .surface import color_of
 from .layout import (BG_SKY, BOX, DIFFUSE_LIGHT, LIGHT_AREA, LIGHT_CDF, LIGHT_OBJ, LIGHT_PART,
-                     LIGHT_POWER, LIGHT_PROB, MAT_COLOR, OBJ_KIND, OBJ_MAT, RECT, SPHERE)
-from .shapes import axis_rect, box, rect, sphere
+                     LIGHT_POWER, LIGHT_PROB, MAT_COLOR, OBJ_KIND, OBJ_MAT, RECT, SPHERE,
+                     TRIANGLE)
+from .shapes import axis_rect, box, rect, sphere, triangle
 
 # Rec. 709 luminance of linear RGB: how bright a colour is to the eye.
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
@@ -46,6 +47,8 @@ def _areas(kind, row):
         return [(-1, 4.0 * math.pi * row[sphere.RADIUS2])]
     if kind == RECT:
         return [(-1, row[rect.AREA])]
+    if kind == TRIANGLE:
+        return [(-1, row[triangle.AREA])]
     return [(-1, row[axis_rect.AREA])]          # the three axis-aligned kinds
 
 

@@ -1,7 +1,8 @@
 """Freezing a Scene into the arrays the path tracer's kernels read (layout.py).
 
-Each shape becomes one primitive, placed in the world (rotate_y, then
-translate) and packed by its kind's module (shapes/<kind>.py).
+Each shape becomes one primitive (a mesh: one per triangle), placed in the
+world (rotate_y, then translate) and packed by its kind's module
+(shapes/<kind>.py).
 """
 import numpy as np
 
@@ -10,8 +11,8 @@ from ..scene.fields import SKY
 from . import bvh as hierarchy
 from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS,
                      MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_MAT, PRIMITIVE_KINDS, RECT,
-                     SPHERE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays)
-from .shapes import axis_rect, box, rect, sphere
+                     SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles)
+from .shapes import axis_rect, box, rect, sphere, triangle
 from .lights import pack_lights
 from .textures import pack_textures
 
@@ -66,7 +67,7 @@ def scene_bytes(scene):
     description alone, so that it can be checked before anything is packed
     (memory.py): its primitives, their BVH and light rows, and the textures'
     tables (image texels, Perlin noise)."""
-    total = BYTES_PER_OBJECT * len(scene.objects)
+    total = BYTES_PER_OBJECT * sum(shape.primitives for shape in scene.objects)
     seen = set()
     for shape in scene.objects:
         texture = shape.material.texture
@@ -123,20 +124,26 @@ def pack_scene(scene, bvh=None):
     if scene.resolved_integrator() != "path":
         raise SceneError("this scene is rendered by the classic integrator")
     materials, mat_index = scene_materials(scene)
-    obj_i, obj_f, first = [], [], {}
+    obj_i, obj_f, first, count = [], [], {}, 0
+    tris = TriangleTables()
     for shape in scene.objects:
         m = mat_index[id(shape.material)]
-        first[id(shape)] = len(obj_i)
-        for kind, row in primitives(shape):
-            assert kind in PRIMITIVE_KINDS     # the kernels' dispatch knows no other
-            obj_i.append((kind, m))
-            obj_f.append(row)
+        first[id(shape)] = count
+        if shape.kind == "mesh":
+            rows = tris.add(shape)
+            kinds = np.full(len(rows), TRIANGLE)
+        else:
+            kinds, rows = zip(*primitives(shape))
+            assert set(kinds) <= set(PRIMITIVE_KINDS)   # the kernels' dispatch knows no other
+        obj_i.append(np.column_stack([kinds, np.full(len(rows), m)]))
+        obj_f.append(np.asarray(rows).reshape(-1, OBJ_FLOATS))
+        count += len(rows)
     mat_i = np.array([MATERIAL_TAGS[mt.kind] for mt in materials], dtype=np.int64)
     mat_f = np.array([(*mt.color, mt.param) for mt in materials], dtype=np.float64)
     lights = np.array([first[id(s)] for s in scene.lights], dtype=np.int64)
     bg_kind, bg = pack_background(scene.resolved_background())
-    obj_i = np.array(obj_i, dtype=np.int64).reshape(-1, OBJ_INTS)
-    obj_f = np.array(obj_f, dtype=np.float64).reshape(-1, OBJ_FLOATS)
+    obj_i = np.concatenate(obj_i or [np.zeros((0, OBJ_INTS))]).astype(np.int64)
+    obj_f = np.concatenate(obj_f or [np.zeros((0, OBJ_FLOATS))]).astype(np.float64)
     surfaces = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] != ISOTROPIC)
     ids = None if len(surfaces) == len(obj_i) else surfaces
     if bvh is None:
@@ -148,7 +155,40 @@ def pack_scene(scene, bvh=None):
     emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
     mat_f = mat_f.reshape(-1, MAT_FLOATS)
     return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
-                       *pack_lights(obj_i, obj_f, mat_i, mat_f), bg_kind, bg, *tree)
+                       *pack_lights(obj_i, obj_f, mat_i, mat_f), bg_kind, bg, *tree,
+                       tris.arrays())
+
+
+class TriangleTables:
+    """The meshes' triangles as they are packed: their rows of obj_f, and the
+    tables (layout.Triangles) their INDEX column points into."""
+
+    def __init__(self):
+        self.count, self.uvs, self.any_uvs = 0, [], False
+
+    def add(self, shape):
+        """The obj_f rows [F, OBJ_FLOATS] of a mesh shape, placed in the world
+        (its flip_face reverses the winding: the other side is the front)."""
+        vertices, faces, uvs = shape.geometry
+        rot, offset = shape.placement()
+        world = vertices @ rot.T + offset
+        if shape.flipped:
+            faces = faces[:, ::-1]
+        rows = np.zeros((len(faces), OBJ_FLOATS))
+        triangle.pack(world[faces[:, 0]], world[faces[:, 1]], world[faces[:, 2]], self.count,
+                      rows)
+        self.uvs.append(uvs[faces].reshape(-1, 6) if uvs is not None
+                        else np.zeros((len(faces), 6)))
+        self.any_uvs |= uvs is not None
+        self.count += len(faces)
+        return rows
+
+    def arrays(self):
+        """layout.Triangles, or None when the scene has no mesh."""
+        if self.count == 0:
+            return None
+        uvs = np.concatenate(self.uvs) if self.any_uvs else np.zeros((0, 6))
+        return Triangles(uvs)
 
 
 def dark_sides(arrays):

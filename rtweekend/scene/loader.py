@@ -303,6 +303,9 @@ class _Loader:
     def call(self, builder, args, extra_keys, what, name=None):
         """Call builder.raw with the table's fields, checking names first."""
         self.check_signature(builder.raw, args, extra_keys, what)
+        # A builder that reads a file (a mesh) takes it relative to the scene file.
+        if "base" in inspect.signature(builder.raw).parameters:
+            args = {**args, "base": self.base}
         try:
             return builder.raw(**args, name=name)
         except FieldError as e:

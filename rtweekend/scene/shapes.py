@@ -8,10 +8,11 @@ kernels read (path/layout.py, classic/render.py).
 """
 import math
 from dataclasses import dataclass, replace
+from pathlib import Path
 
 import numpy as np
 
-from . import fields
+from . import fields, meshes
 from .fields import Color, Vec3
 from .textures import Texture
 from ..errors import FieldError, SceneError, checked, label
@@ -20,7 +21,7 @@ from .materials import Material, check_material, isotropic
 
 @dataclass(frozen=True, eq=False)
 class Shape:
-    """A sphere, rect or box with its material and its placement.
+    """A sphere, rect, box or mesh with its material and its placement.
 
     Placement is rotate_y (degrees, about the world y axis) then translate;
     any chain of .rotate_y() and .translate() calls reduces to that pair.
@@ -56,6 +57,8 @@ class Shape:
         if self.kind == "box":
             a, b, c = (abs(hi - lo) for lo, hi in zip(g[0], g[1]))
             return 2.0 * (a * b + b * c + c * a)
+        if self.kind == "mesh":
+            return float(meshes.areas(g[0], g[1]).sum())
         return (g[1] - g[0]) * (g[3] - g[2])        # xy/xz/yz_rect: (a0, a1, b0, b1, k)
 
     @property
@@ -83,6 +86,12 @@ class Shape:
 
     def flip_face(self):
         return replace(self, flipped=not self.flipped)
+
+    @property
+    def primitives(self):
+        """How many primitives it packs into: a mesh's triangles, else one (a
+        box is one primitive too)."""
+        return len(self.geometry[1]) if self.kind == "mesh" else 1
 
     def named(self, name):
         return replace(self, name=name)
@@ -201,5 +210,45 @@ def constant_medium(boundary: Shape, density: float, albedo: Color | Texture, *,
     return replace(boundary, material=material, name=name or boundary.name, flipped=False)
 
 
+@checked("mesh")
+def mesh(file: str | Path | tuple, material: Material, *, scale: float | Vec3 = 1.0,
+         name: str | None = None, base: str | Path | None = None) -> Shape:
+    """A triangle mesh.  file: a mesh file -- OBJ, PLY, STL, OFF, glTF/GLB, read
+    by trimesh (pip install 'rtweekend[meshes]'); a relative path is taken from
+    `base` (the scene file's folder) or the current one -- or the arrays
+    (vertices [V, 3], faces [F, 3]) or (vertices, faces, uvs [V, 2]).  Every
+    triangle has `material` (a file's own materials are not read); its front
+    side is the one its vertices turn counter-clockwise around, as the formats
+    define it.  scale: a factor (or one per axis) on the vertices, applied
+    before rotate_y and translate."""
+    if isinstance(file, (str, Path)):
+        path = Path(fields.text(str(file), "file"))
+        if not path.is_absolute() and base is not None:
+            path = Path(base) / path
+        vertices, faces, uvs = meshes.read(path)
+        where = "file"
+    else:
+        try:
+            vertices, faces, *rest = file
+        except (TypeError, ValueError):
+            raise FieldError("file", "expected a file name or the arrays (vertices, faces)"
+                             " or (vertices, faces, uvs)") from None
+        uvs = rest[0] if rest else None
+        where = "mesh"
+    try:
+        factor = fields.vec3(scale, "scale")
+    except FieldError:
+        factor = (fields.number(scale, "scale"),) * 3
+    if not all(abs(s) >= fields.SMALLEST for s in factor):
+        raise FieldError("scale", f"must not be 0, got {scale}")
+    vertices, faces, uvs = meshes.check(vertices, faces, uvs, where)
+    vertices = vertices * np.asarray(factor)
+    if np.abs(vertices).max() > fields.LARGEST:
+        raise FieldError("scale", f"puts vertices beyond {fields.LARGEST:g}")
+    if np.prod(np.sign(factor)) < 0:
+        faces = faces[:, ::-1].copy()      # a mirroring scale keeps the front side outward
+    return Shape("mesh", (vertices, faces, uvs), check_material(material), name=name)
+
+
 MEDIUM_BOUNDARIES = ("sphere", "box")
-SHAPES = {f.kind: f for f in (sphere, xy_rect, xz_rect, yz_rect, box, quad)}
+SHAPES = {f.kind: f for f in (sphere, xy_rect, xz_rect, yz_rect, box, quad, mesh)}

@@ -1,6 +1,6 @@
 """The primitive kinds, and the one place that dispatches on them.
 
-Each kind is a module (sphere.py, rect.py, axis_rect.py, box.py) that provides,
+Each kind is a module (sphere.py, rect.py, axis_rect.py, box.py, triangle.py) that provides,
 for the row k of obj_f it packed:
 
   distance(obj_f, k, o, d, t_max, from_self, from_inside)  nearest hit in (0, t_max)
@@ -17,7 +17,9 @@ for the row k of obj_f it packed:
   bounds(row), pack(..., row)          NumPy, for the BVH and pack.py
 
 Spheres can move (motion blur): their functions also take the ray's time,
-which is None in a kernel for a scene where nothing moves (sphere.py).
+which is None in a kernel for a scene where nothing moves (sphere.py).  A
+mesh's triangles take the mesh tables (scene.tris), None in a scene without
+meshes, which then compiles none of their code (triangle.py).
 
 (axis_rect.py serves three kinds, xy, xz and yz: its functions take the axes.)
 Here each operation is an explicit branch per kind (adding a kind: its module,
@@ -33,12 +35,12 @@ kind knows where it can be met again.
 import math
 
 from ...kernel.jit import jit_step, like
-from ..layout import BOX, OBJ_KIND, RECT, SPHERE, XY_RECT, XZ_RECT, YZ_RECT
-from . import axis_rect, box, rect, sphere
+from ..layout import BOX, OBJ_KIND, RECT, SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT
+from . import axis_rect, box, rect, sphere, triangle
 
 NAN = math.nan
 MODULES = {SPHERE: sphere, RECT: rect, XY_RECT: axis_rect, XZ_RECT: axis_rect,
-           YZ_RECT: axis_rect, BOX: box}
+           YZ_RECT: axis_rect, BOX: box, TRIANGLE: triangle}
 # The axes (a, b, n) of the three axis-aligned kinds: the plane's and the normal's.
 XY, XZ, YZ = axis_rect.XY, axis_rect.XZ, axis_rect.YZ
 AXES = {XY_RECT: XY, XZ_RECT: XZ, YZ_RECT: YZ}
@@ -69,6 +71,8 @@ def distance(scene, k, o, d, t_max, from_obj, from_inside, time):
         return box.distance(f, k, o, d, t_max, from_self, from_inside)
     if kind == RECT:
         return rect.distance(f, k, o, d, t_max, from_self, from_inside)
+    if kind == TRIANGLE:
+        return triangle.distance(scene.tris, f, k, o, d, t_max, from_self)
     return like(t_max, NAN)
 
 
@@ -89,6 +93,8 @@ def outward_normal(scene, k, p, time):
         return box.outward_normal(f, k, p)
     if kind == RECT:
         return rect.outward_normal(f, k, p)
+    if kind == TRIANGLE:
+        return triangle.outward_normal(scene.tris, f, k)
     return (NAN, NAN, NAN)
 
 
@@ -106,6 +112,8 @@ def enters(scene, k, n, d):
         return box.enters(f, k, n, d)
     if kind == RECT:
         return rect.enters(f, k, n, d)
+    if kind == TRIANGLE:
+        return triangle.enters(scene.tris, f, k, n, d)
     return False
 
 
@@ -126,6 +134,8 @@ def sample_toward(scene, k, p, state, time):
         return box.sample_toward(f, k, p, state)
     if kind == RECT:
         return rect.sample_toward(f, k, p, state)
+    if kind == TRIANGLE:
+        return triangle.sample_toward(scene.tris, f, k, p, state)
     return (NAN, NAN, NAN), state
 
 
@@ -147,6 +157,8 @@ def pdf_toward(scene, k, p, d, from_obj, from_inside, time):
         return box.pdf_toward(f, k, p, d, from_self, from_inside)
     if kind == RECT:
         return rect.pdf_toward(f, k, p, d, from_self, from_inside)
+    if kind == TRIANGLE:
+        return triangle.pdf_toward(scene.tris, f, k, p, d, from_self)
     return NAN
 
 
@@ -169,6 +181,8 @@ def sample_area(scene, k, part, u1, u2, time):
         return box.sample_area(f, k, part, u1, u2)
     if kind == RECT:
         return rect.sample_area(f, k, u1, u2)
+    if kind == TRIANGLE:
+        return triangle.sample_area(scene.tris, f, k, u1, u2)
     return (NAN, NAN, NAN), (NAN, NAN, NAN), NAN
 
 
@@ -189,6 +203,8 @@ def uv(scene, k, p, time):
         return box.uv(f, k, p)
     if kind == RECT:
         return rect.uv(f, k, p)
+    if kind == TRIANGLE:
+        return triangle.uv(scene.tris, f, k, p)
     return (NAN, NAN)
 
 

@@ -1,0 +1,220 @@
+"""The triangle: one face of a mesh, placed in the world.
+
+Row of obj_f: its vertices P0 (0:3), P1 (3:6), P2 (6:9) as the mesh file gives
+them (placed), the unit normal N (9:12) of (P1 - P0) x (P2 - P0) -- its front
+side, counter-clockwise winding as in OBJ, PLY and glTF --, AREA (12) and
+INDEX (13), the triangle's row in the mesh tables (layout.Triangles: texture
+coordinates).  The vertices are stored, not an edge and a corner: two
+triangles that share an edge then test bit-identical end points, which is what
+makes the test below watertight.
+
+The ray-triangle test is Woop, Benthin and Wald's watertight one (JCGT 2013):
+the ray is turned into a frame where it runs along +z from the origin, the
+vertices are sheared into that frame, and the hit is decided by the signs of
+three 2-D edge functions.  Each edge function of a shared edge is computed from
+the same two points in the same order by both triangles, with opposite signs,
+so a ray through an edge or a vertex meets at least one of them: no ray slips
+between the faces of a closed mesh (tests/test_meshes.py aims 10^6 at them).
+
+Self-intersection keeps the analytic kinds' rule: a ray leaving a triangle
+never meets that triangle again (a plane).  Its neighbours it may meet -- a
+crease is seen from the triangle beside it -- and only a leaving point within
+rounding (about 1e-16 of the coordinates) of a shared edge could meet one at
+t ~ 0 by mistake, which no render draws often enough to see.
+
+Every kernel here takes the scene's mesh tables first: None in a scene without
+meshes, where Numba prunes the rest of each function, so such a scene compiles
+none of the triangle's code (practice 5 of the design notes).
+"""
+import math
+
+import numpy as np
+
+from ...kernel import rng
+from ...kernel.jit import jit_step, like
+from ...kernel.vec3 import cross, dot, sub
+
+INF = math.inf
+NAN = math.nan
+P0 = 0
+P1 = 3
+P2 = 6
+N = 9
+AREA = 12
+INDEX = 13
+FLOATS = 14
+
+
+def pack(p0, p1, p2, first_index, block):
+    """Fill block [F, >= FLOATS] with the triangles (p0[f], p1[f], p2[f]): F x 3
+    arrays already placed in the world; their table rows start at first_index."""
+    n = np.cross(p1 - p0, p2 - p0)
+    double_area = np.linalg.norm(n, axis=1)
+    block[:, P0:P0 + 3], block[:, P1:P1 + 3], block[:, P2:P2 + 3] = p0, p1, p2
+    block[:, N:N + 3] = n / double_area[:, None]
+    block[:, AREA] = 0.5 * double_area
+    block[:, INDEX] = first_index + np.arange(len(p0))
+
+
+def bounds(row):
+    corners = np.array([row[P0:P0 + 3], row[P1:P1 + 3], row[P2:P2 + 3]])
+    return corners.min(axis=0), corners.max(axis=0)
+
+
+@jit_step
+def _vertex(obj_f, k, c):
+    return (obj_f[k, c], obj_f[k, c + 1], obj_f[k, c + 2])
+
+
+@jit_step
+def _axis(v, i):
+    if i == 0:
+        return v[0]
+    if i == 1:
+        return v[1]
+    return v[2]
+
+
+@jit_step
+def hit(obj_f, k, o, d, t_max):
+    """(t, b0, b1, b2): the watertight test's distance in (0, t_max) and the
+    barycentric weights of P0, P1, P2 there; t = inf on a miss."""
+    miss = (like(t_max, INF), 0.0, 0.0, 0.0)
+    # The ray's frame: z along its largest component, x and y the next two
+    # (swapped if z points backwards, which keeps the winding).
+    ad = (abs(d[0]), abs(d[1]), abs(d[2]))
+    kz = 0 if ad[0] >= ad[1] and ad[0] >= ad[2] else (1 if ad[1] >= ad[2] else 2)
+    kx = (kz + 1) % 3
+    ky = (kx + 1) % 3
+    dz = _axis(d, kz)
+    if dz < 0.0:
+        kx, ky = ky, kx
+    sx = _axis(d, kx) / dz
+    sy = _axis(d, ky) / dz
+    sz = 1.0 / dz
+    a = sub(_vertex(obj_f, k, P0), o)
+    b = sub(_vertex(obj_f, k, P1), o)
+    c = sub(_vertex(obj_f, k, P2), o)
+    ax = _axis(a, kx) - sx * _axis(a, kz)
+    ay = _axis(a, ky) - sy * _axis(a, kz)
+    bx = _axis(b, kx) - sx * _axis(b, kz)
+    by = _axis(b, ky) - sy * _axis(b, kz)
+    cx = _axis(c, kx) - sx * _axis(c, kz)
+    cy = _axis(c, ky) - sy * _axis(c, kz)
+    # Edge functions: u of the edge P1 P2 (P0's weight), v of P2 P0, w of P0 P1.
+    u = cx * by - cy * bx
+    v = ax * cy - ay * cx
+    w = bx * ay - by * ax
+    if (u < 0.0 or v < 0.0 or w < 0.0) and (u > 0.0 or v > 0.0 or w > 0.0):
+        return miss
+    det = u + v + w
+    if det == 0.0:
+        return miss                  # seen edge-on
+    t_scaled = u * sz * _axis(a, kz) + v * sz * _axis(b, kz) + w * sz * _axis(c, kz)
+    if det > 0.0:
+        if t_scaled <= 0.0 or t_scaled >= t_max * det:
+            return miss
+    elif t_scaled >= 0.0 or t_scaled <= t_max * det:
+        return miss
+    inv = 1.0 / det
+    return t_scaled * inv, u * inv, v * inv, w * inv
+
+
+@jit_step
+def distance(tris, obj_f, k, o, d, t_max, from_self):
+    """Distance to the triangle along d; a ray leaving it never meets it again."""
+    if tris is None:
+        return like(t_max, NAN)
+    if from_self:
+        return like(t_max, INF)
+    return hit(obj_f, k, o, d, t_max)[0]
+
+
+@jit_step
+def outward_normal(tris, obj_f, k):
+    if tris is None:
+        return (NAN, NAN, NAN)
+    return _vertex(obj_f, k, N)
+
+
+@jit_step
+def enters(tris, obj_f, k, n, d):
+    """A triangle has no inside of its own: a ray leaving it never goes into it."""
+    return False
+
+
+@jit_step
+def weights(obj_f, k, p):
+    """The barycentric weights (b0, b1, b2) of a point p on the triangle."""
+    p0 = _vertex(obj_f, k, P0)
+    e1 = sub(_vertex(obj_f, k, P1), p0)
+    e2 = sub(_vertex(obj_f, k, P2), p0)
+    n = cross(e1, e2)
+    q = sub(p, p0)
+    inv = 1.0 / dot(n, n)
+    b1 = dot(cross(q, e2), n) * inv
+    b2 = dot(cross(e1, q), n) * inv
+    return 1.0 - b1 - b2, b1, b2
+
+
+@jit_step
+def uv(tris, obj_f, k, p):
+    """Texture coordinates: the mesh's, interpolated, where it has them; else
+    the barycentric (b1, b2)."""
+    if tris is None:
+        return (NAN, NAN)
+    b0, b1, b2 = weights(obj_f, k, p)
+    i = np.int64(obj_f[k, INDEX])
+    if tris.uvs.shape[0] == 0:
+        return (b1, b2)
+    t = tris.uvs
+    return (b0 * t[i, 0] + b1 * t[i, 2] + b2 * t[i, 4], b0 * t[i, 1] + b1 * t[i, 3] + b2 * t[i, 5])
+
+
+@jit_step
+def point(obj_f, k, u1, u2):
+    """The point of the unit square's (u1, u2) under the area-preserving map onto
+    the triangle (b0 = 1 - sqrt(u1), b1 = u2 sqrt(u1))."""
+    s = math.sqrt(u1)
+    b0 = 1.0 - s
+    b1 = u2 * s
+    b2 = 1.0 - b0 - b1
+    p0, p1, p2 = _vertex(obj_f, k, P0), _vertex(obj_f, k, P1), _vertex(obj_f, k, P2)
+    return (b0 * p0[0] + b1 * p1[0] + b2 * p2[0], b0 * p0[1] + b1 * p1[1] + b2 * p2[1],
+            b0 * p0[2] + b1 * p1[2] + b2 * p2[2])
+
+
+@jit_step
+def sample_area(tris, obj_f, k, u1, u2):
+    """(point, outward normal, 1 / area): a point uniform over the triangle."""
+    if tris is None:
+        return (NAN, NAN, NAN), (NAN, NAN, NAN), NAN
+    return point(obj_f, k, u1, u2), _vertex(obj_f, k, N), 1.0 / obj_f[k, AREA]
+
+
+@jit_step
+def sample_toward(tris, obj_f, k, p, state):
+    """A unit direction from p to a point uniform in the triangle's area."""
+    if tris is None:
+        return (NAN, NAN, NAN), state
+    u1, state = rng.uniform(state)
+    u2, state = rng.uniform(state)
+    q = sub(point(obj_f, k, u1, u2), p)
+    inv = 1.0 / math.sqrt(dot(q, q))
+    return (q[0] * inv, q[1] * inv, q[2] * inv), state
+
+
+@jit_step
+def pdf_toward(tris, obj_f, k, p, d, from_self):
+    """Solid-angle density at p of direction d under sample_toward:
+    distance^2 / (|cos| area) where d meets the triangle, else 0."""
+    if tris is None:
+        return NAN
+    if from_self:
+        return 0.0
+    t = hit(obj_f, k, p, d, INF)[0]
+    if t == INF:
+        return 0.0
+    cosine = abs(dot(_vertex(obj_f, k, N), d))
+    return t * t / (cosine * obj_f[k, AREA])
+
