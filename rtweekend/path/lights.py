@@ -55,10 +55,8 @@ def _areas(kind, row):
 def pack_lights(obj_i, obj_f, mat_i, mat_f):
     """(light_rows int64 [L, 2], light_f float64 [L, 4], light_pick float64 [N])."""
     rows, values = [], []
-    for k in range(len(obj_i)):
+    for k in np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT):
         m = obj_i[k, OBJ_MAT]
-        if mat_i[m] != DIFFUSE_LIGHT:
-            continue
         luminance = float(LUMINANCE @ mat_f[m, MAT_COLOR:MAT_COLOR + 3])
         for part, area in _areas(obj_i[k, OBJ_KIND], obj_f[k]):
             rows.append((k, part))
