@@ -215,15 +215,45 @@ def _shape(s):
         M = _placement(s) @ _local_matrix(s)
         d = {"type": "rectangle" if s.kind != "box" else "cube",
              "to_world": mi.ScalarTransform4f(M.tolist())}
+    elif s.kind == "mesh":
+        # Flat triangles, as rtweekend shades them, from a PLY file Mitsuba reads
+        # (its to_world: the same rotate_y and translate; the scale is in the
+        # vertices).  flip_face reverses the winding, as rtweekend packs it.
+        vertices, faces, _ = s.geometry
+        d = {"type": "ply", "filename": _ply(vertices, faces[:, ::-1] if s.flipped else faces),
+             "face_normals": True, "to_world": mi.ScalarTransform4f(_placement(s).tolist())}
     else:
         raise NotImplementedError(f"shape {s.kind!r}")
-    if s.flipped:
+    if s.flipped and s.kind != "mesh":
         d["flip_normals"] = True
     d["bsdf"] = _bsdf(s.material)
     if s.material.kind == "diffuse_light":
         # One-sided: Mitsuba's area emitter emits on the side its normal faces.
         d["emitter"] = {"type": "area", "radiance": _rgb(s.material.color)}
     return d
+
+
+_PLY_FOLDER = None
+
+
+def _ply(vertices, faces):
+    """A binary PLY file of the triangles (for Mitsuba's ply shape); its path."""
+    import tempfile
+    global _PLY_FOLDER
+    if _PLY_FOLDER is None:                 # removed when the process ends
+        _PLY_FOLDER = tempfile.TemporaryDirectory(prefix="mitsuba_peer_")
+    path = Path(_PLY_FOLDER.name) / f"mesh_{len(list(Path(_PLY_FOLDER.name).iterdir()))}.ply"
+    header = ("ply\nformat binary_little_endian 1.0\n"
+              f"element vertex {len(vertices)}\nproperty float x\nproperty float y\n"
+              f"property float z\nelement face {len(faces)}\n"
+              "property list uchar int vertex_indices\nend_header\n")
+    face_rows = np.zeros(len(faces), dtype=[("n", "u1"), ("v", "<i4", 3)])
+    face_rows["n"], face_rows["v"] = 3, faces
+    with open(path, "wb") as f:
+        f.write(header.encode())
+        f.write(np.asarray(vertices, dtype="<f4").tobytes())
+        f.write(face_rows.tobytes())
+    return str(path)
 
 
 def _sensor(cam, spp, seed):
