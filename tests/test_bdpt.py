@@ -49,6 +49,8 @@ def _weights(pc, pl, delta, s_max):
         qs_fwd = pl[t] if s >= 1 else 0.0
         qs_rev = pc[t] if s >= 1 else 0.0
         qsm_rev = pc[t + 1] if s >= 2 else 0.0
+        mis.accumulate(cf, ci, 1, t)        # as render_row does once per subpath
+        mis.accumulate(lf, li, 0, s)
         out[s] = mis.weight(cf, ci, lf, li, s, t, pt_rev, ptm_rev, qs_fwd, qs_rev, qsm_rev)
     return out
 

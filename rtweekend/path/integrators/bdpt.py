@@ -274,6 +274,7 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, cf, ci, 
             nc, escaped, d, beta, n, smp = camera_subpath(scene, params, cf, ci, x, y,
                                                           textures, media, time, smp)
             segments += n
+            mis.accumulate(cf, ci, 1, nc)
             radiance = mul(beta, background(scene, d)) if escaped else ZERO
             if params.only_s >= 0:          # the sky: strategy (0, nc + 1) alone
                 radiance = scale(radiance, alone(params, 0, nc + 1))
@@ -285,6 +286,7 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, cf, ci, 
             if has_lights:
                 nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)
                 segments += n
+                mis.accumulate(lf, li, 0, nl)
             light, seen, n, smp = camera_strategies(scene, params, cf, ci, lf, li, nc, nl,
                                                     textures, media, time, smp)
             radiance, segments = add(radiance, light), segments + n

@@ -20,9 +20,17 @@ Veach's power heuristic, 1 the balance heuristic.  A path seen directly (s +
 t = 2: the camera ray hits a light) has one strategy only, (0, 2): light
 tracing's (1, 1) is not used.  Light carried to the camera (t = 1) counts the
 camera ray densities of the whole film, as many samples as pixels (film.py).
+
+Only the two vertices nearest the connection on each side change with it;
+the rest of each sum is a subpath's own, the same for all its strategies.
+So accumulate() walks each subpath once when it is drawn and stores, at
+vertex i, ACC_i = ok_i + r_{i-1} ACC_{i-1} (r_i: vertex i's REV / FWD ratio,
+ok_i: a strategy may move vertex i across), and a strategy's sum on one side
+is r_1 ok_1 + r_1 r_2 ACC_2, its two changed ratios times what lies beyond
+them: O(1) per strategy instead of a loop over its vertices.
 """
 from ...kernel.jit import jit_step
-from .vertices import DELTA, FWD, REV
+from .vertices import ACC, DELTA, FWD, REV
 
 POWER = 2
 
@@ -37,27 +45,53 @@ def ratio(rev, fwd):
 
 
 @jit_step
+def movable(vi, i):
+    """1 if a strategy may connect at vertex i (moving it to the other
+    subpath): neither it nor the one before it is delta."""
+    if vi[i, DELTA] != 0 or (i > 0 and vi[i - 1, DELTA] != 0):
+        return 0.0
+    return 1.0
+
+
+@jit_step
+def accumulate(vf, vi, first, n):
+    """Set ACC of vertices first..n-1 of a subpath (first: 1 for the camera's,
+    whose vertex 0 no strategy moves; 0 for the light's)."""
+    acc = 0.0
+    for i in range(first, n):
+        if i > first:
+            acc *= ratio(vf[i - 1, REV], vf[i - 1, FWD])
+        acc += movable(vi, i)
+        vf[i, ACC] = acc
+
+
+@jit_step
+def side(vf, vi, end, end_rev, end_fwd, prev_rev, first):
+    """The sum over one subpath of the strategies that move its vertices end,
+    end - 1, ... across: the ratios at `end` (its REV end_rev and FWD end_fwd,
+    as the connection makes them) and at end - 1 (REV prev_rev) times the
+    subpath's own ACC beyond them."""
+    if end < first:
+        return 0.0
+    r = ratio(end_rev, end_fwd)
+    # The endpoint itself is joined, so never delta: only its predecessor counts.
+    total = 0.0 if end > 0 and vi[end - 1, DELTA] != 0 else r
+    if end - 1 >= first:
+        total += r * ratio(prev_rev, vf[end - 1, FWD]) * vf[end - 1, ACC]
+    return total
+
+
+@jit_step
 def weight(cf, ci, lf, li, s, t, pt_rev, ptm_rev, qs_fwd, qs_rev, qsm_rev):
     """The MIS weight of strategy (s, t): light vertices lf/li[0:s], camera
-    vertices cf/ci[0:t], joined by an edge from light vertex s - 1 to camera
-    vertex t - 1 (their changed densities given: above)."""
+    vertices cf/ci[0:t] (their ACC set: accumulate), joined by an edge from
+    light vertex s - 1 to camera vertex t - 1 (their changed densities given:
+    above)."""
     if s + t == 2:
         return 1.0
     others = 0.0
-    r = 1.0
-    for i in range(t - 1, 0, -1):
-        rev = pt_rev if i == t - 1 else (ptm_rev if i == t - 2 else cf[i, REV])
-        r *= ratio(rev, cf[i, FWD])
-        if (i == t - 1 or ci[i, DELTA] == 0) and ci[i - 1, DELTA] == 0:
-            others += r
-    r = 1.0
-    for i in range(s - 1, -1, -1):
-        if i == s - 1:
-            rev, fwd = qs_rev, qs_fwd
-        else:
-            rev, fwd = (qsm_rev if i == s - 2 else lf[i, REV]), lf[i, FWD]
-        r *= ratio(rev, fwd)
-        before_delta = i > 0 and li[i - 1, DELTA] != 0      # area lights are never delta
-        if (i == s - 1 or li[i, DELTA] == 0) and not before_delta:
-            others += r
+    if t >= 2:
+        others += side(cf, ci, t - 1, pt_rev, cf[t - 1, FWD], ptm_rev, 1)
+    if s >= 1:
+        others += side(lf, li, s - 1, qs_rev, qs_fwd, qsm_rev, 0)
     return 1.0 / (1.0 + others)

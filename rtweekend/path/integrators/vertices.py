@@ -13,6 +13,8 @@ Row i of `vf` (floats) and `vi` (integers) is vertex i:
   PARAM  the material's parameter
   FWD    the area density of this vertex as its own subpath drew it
   REV    the area density of it drawn the other way, from the next vertex (MIS)
+  ACC    the MIS weights' running sum up to it, set once the subpath is drawn
+         (mis.accumulate)
 
 A vertex answers, for a pair of directions leaving it (wo towards where its
 light goes or comes from, wi the other): `scatter` = f(wo, wi) |cos theta_i|
@@ -32,8 +34,8 @@ from ..layout import DIFFUSE_LIGHT
 from ..materials import Bsdf, isotropic
 
 # Columns of vf.
-P, NG, BETA, COLOR, PARAM, FWD, REV = 0, 3, 6, 9, 12, 13, 14
-NF = 15
+P, NG, BETA, COLOR, PARAM, FWD, REV, ACC = 0, 3, 6, 9, 12, 13, 14, 15
+NF = 16
 # Columns of vi.
 TYPE, OBJ, MKIND, DELTA = 0, 1, 2, 3
 NI = 4
