@@ -35,7 +35,7 @@ import numpy as np
 
 from ...kernel import sampler
 from ...kernel.jit import jit_kernel, jit_step
-from ...kernel.vec3 import add, at_most, dot, madd, mul, neg, scale
+from ...kernel.vec3 import add, at_most, dot, mul, neg, scale
 from .. import camera, lights, media as volumes, shapes
 from .. import film as films
 from ..bvh import closest_hit
@@ -44,9 +44,9 @@ from ..layout import DIFFUSE_LIGHT, NO_HIT
 from ..lights import background
 from . import mis
 from .subpaths import camera_subpath, light_subpath
-from .vertices import (BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, OBJ, P, SURFACE,
-                       TYPE, area_density, col, connectible, direction_pdf, on_surface,
-                       scatter, to_area, toward)
+from .vertices import (BACK, BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, OBJ, P,
+                       SURFACE, TYPE, WO, area_factor, back_density, col, connectible,
+                       direction_pdf, on_surface, scatter, toward)
 
 SPLATS = True           # light tracing's strategies splat (film.py)
 ZERO = (0.0, 0.0, 0.0)
@@ -88,9 +88,7 @@ def emitted(scene, params, cf, ci, t):
     """s = 0: (radiance, MIS weight) of camera vertex t - 1, an emitter,
     towards vertex t - 2 (its front side only)."""
     pt = t - 1
-    p = col(cf, pt, P)
-    wo, _ = toward(p, col(cf, pt - 1, P))
-    c = dot(wo, col(cf, pt, NG))
+    c = dot(col(cf, pt, WO), col(cf, pt, NG))
     if c <= 0.0:
         return ZERO, 0.0
     if params.only_s >= 0:
@@ -98,8 +96,7 @@ def emitted(scene, params, cf, ci, t):
     if t == 2:
         return col(cf, pt, COLOR), 1.0
     pt_rev = lights.origin_density(scene, ci[pt, OBJ])
-    ptm_rev = to_area(c * INV_PI, p, col(cf, pt - 1, P), col(cf, pt - 1, NG),
-                      on_surface(ci, pt - 1))
+    ptm_rev = c * INV_PI * cf[pt, BACK]
     return col(cf, pt, COLOR), mis.weight(cf, ci, cf, ci, 0, t, pt_rev, ptm_rev, 0.0, 0.0, 0.0)
 
 
@@ -114,7 +111,7 @@ def next_event(scene, params, cf, ci, lf, li, t, textures, media, time, smp):
     cos_q = -dot(w, nq)
     if cos_q <= 0.0:
         return ZERO, 0, smp                     # the emitter's back: it sends nothing
-    wo, _ = toward(p, col(cf, pt - 1, P))
+    wo = col(cf, pt, WO)
     f = scatter(cf, ci, pt, wo, w)
     if not nonzero(f):
         return ZERO, 0, smp
@@ -122,9 +119,9 @@ def next_event(scene, params, cf, ci, lf, li, t, textures, media, time, smp):
     if tr == 0.0:
         return ZERO, 1, smp
     cam = params.cam
-    pt_rev = to_area(cos_q * INV_PI, q, p, col(cf, pt, NG), on_surface(ci, pt))
-    qs_rev = to_area(direction_pdf(cam, cf, ci, pt, wo, w), p, q, nq, True)
-    ptm_rev = area_density(cam, cf, ci, pt, w, wo, cf, ci, pt - 1)
+    pt_rev = cos_q * INV_PI * area_factor(w, dist, col(cf, pt, NG), on_surface(ci, pt))
+    qs_rev = direction_pdf(cam, cf, ci, pt, wo, w) * cos_q / (dist * dist)
+    ptm_rev = back_density(cam, cf, ci, pt, w)
     if params.only_s >= 0:
         w = alone(params, 1, t)
     else:
@@ -143,8 +140,7 @@ def join(scene, params, cf, ci, lf, li, s, t, media, time):
     p, q = col(cf, pt, P), col(lf, qs, P)
     w, dist = toward(p, q)
     back = neg(w)
-    wo_t, _ = toward(p, col(cf, pt - 1, P))
-    wo_s, _ = toward(q, col(lf, qs - 1, P))
+    wo_t, wo_s = col(cf, pt, WO), col(lf, qs, WO)
     f_s = scatter(lf, li, qs, wo_s, back)
     if not nonzero(f_s):
         return ZERO, 0
@@ -155,10 +151,12 @@ def join(scene, params, cf, ci, lf, li, s, t, media, time):
     if tr == 0.0:
         return ZERO, 1
     cam = params.cam
-    pt_rev = area_density(cam, lf, li, qs, wo_s, back, cf, ci, pt)
-    ptm_rev = area_density(cam, cf, ci, pt, w, wo_t, cf, ci, pt - 1)
-    qs_rev = area_density(cam, cf, ci, pt, wo_t, w, lf, li, qs)
-    qsm_rev = area_density(cam, lf, li, qs, back, wo_s, lf, li, qs - 1)
+    pt_rev = direction_pdf(cam, lf, li, qs, wo_s, back) * \
+        area_factor(w, dist, col(cf, pt, NG), on_surface(ci, pt))
+    ptm_rev = back_density(cam, cf, ci, pt, w)
+    qs_rev = direction_pdf(cam, cf, ci, pt, wo_t, w) * \
+        area_factor(w, dist, col(lf, qs, NG), on_surface(li, qs))
+    qsm_rev = back_density(cam, lf, li, qs, back)
     if params.only_s >= 0:
         w = alone(params, s, t)
     else:
@@ -181,16 +179,16 @@ def to_camera(scene, params, film, cf, ci, lf, li, s, source, media, time, smp):
                                                           u1, u2)
     if not on_film or pdf <= 0.0:
         return 0, smp
-    wo_s, _ = toward(q, col(lf, qs - 1, P))
+    wo_s = col(lf, qs, WO)
     f = scatter(lf, li, qs, wo_s, wi)
     if not nonzero(f):
         return 0, smp
     tr = clear(scene, q, li[qs, OBJ], col(lf, qs, NG), wi, dist, np.int64(NO_HIT), media, time)
     if tr == 0.0:
         return 1, smp
-    qs_rev = to_area(camera.pdf_direction(cam, neg(wi)), madd(q, wi, dist), q,
-                     col(lf, qs, NG), on_surface(li, qs))
-    qsm_rev = area_density(cam, lf, li, qs, wi, wo_s, lf, li, qs - 1)
+    qs_rev = camera.pdf_direction(cam, neg(wi)) * \
+        area_factor(wi, dist, col(lf, qs, NG), on_surface(li, qs))
+    qsm_rev = back_density(cam, lf, li, qs, wi)
     if params.only_s >= 0:
         w = alone(params, s, 1)
     else:
@@ -210,7 +208,7 @@ def first_seen(scene, cf, ci, n, escaped, d, beta):
     when only mirrors and glass lie before it)."""
     for i in range(1, n):
         if ci[i, DELTA] == 0:
-            towards, _ = toward(col(cf, i, P), col(cf, i - 1, P))
+            towards = col(cf, i, WO)
             c = col(cf, i, COLOR)
             if ci[i, TYPE] == MEDIUM:
                 return mul(col(cf, i, BETA), c), towards, ZERO

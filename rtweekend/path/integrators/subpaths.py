@@ -30,8 +30,7 @@ from ..layout import DIFFUSE_LIGHT, ISOTROPIC, NO_HIT
 from ..materials import isotropic, lambertian
 from ..roulette import roulette
 from ..surface import color_of, surface_at
-from .vertices import (CAMERA, LIGHT, MEDIUM, NG, P, REV, SURFACE, col, on_surface, put,
-                       to_area)
+from .vertices import BACK, CAMERA, LIGHT, MEDIUM, REV, SURFACE, put
 
 INF = math.inf
 ONE = (1.0, 1.0, 1.0)
@@ -40,10 +39,10 @@ ROULETTE_VERTICES = 3      # a subpath of this many vertices may end by roulette
 
 
 @jit_step
-def set_reverse(vf, vi, i, pdf, p):
+def set_reverse(vf, i, pdf):
     """Vertex i's REV: its area density as drawn with solid-angle density pdf
-    from the point p that follows it."""
-    vf[i, REV] = to_area(pdf, p, col(vf, i, P), col(vf, i, NG), on_surface(vi, i))
+    from vertex i + 1 (whose BACK converts it)."""
+    vf[i, REV] = pdf * vf[i + 1, BACK]
 
 
 @jit_step
@@ -64,14 +63,14 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
                 p = madd(o, d, tm)
                 albedo = color_of(scene, textures, medium, p, np.int64(NO_HIT), time)
                 put(vf, vi, n, MEDIUM, p, ZERO, beta, albedo, 0.0, NO_HIT, ISOTROPIC, False,
-                    to_area(pdf_dir, o, p, ZERO, False))
+                    pdf_dir)
                 n += 1
                 if n >= limit:
                     break
                 d, state = isotropic.sample(smp.state)
                 smp = sampler.resume(smp, state)
                 pdf_dir = isotropic.pdf()
-                set_reverse(vf, vi, n - 2, pdf_dir, p)
+                set_reverse(vf, n - 2, pdf_dir)
                 beta = mul(beta, albedo)
                 o, from_obj, from_inside = p, np.int64(NO_HIT), np.bool_(False)
                 if n >= ROULETTE_VERTICES:
@@ -84,7 +83,7 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
         hit = surface_at(scene, textures, k, o, d, t, time)
         bsdf = materials.at(scene, hit)
         put(vf, vi, n, SURFACE, hit.p, hit.n_out, beta, hit.albedo, bsdf.param, k, bsdf.kind,
-            materials.delta(bsdf), to_area(pdf_dir, o, hit.p, hit.n_out, True))
+            materials.delta(bsdf), pdf_dir)
         n += 1
         if n >= limit or not materials.scatters(bsdf):
             break
@@ -98,7 +97,7 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
             pdf_dir = density
             # The reverse density: wo drawn having come from d (the normal stays
             # on the side of both: a smooth material only reflects).
-            set_reverse(vf, vi, n - 2, materials.pdf(bsdf, d, wo), hit.p)
+            set_reverse(vf, n - 2, materials.pdf(bsdf, d, wo))
         if adjoint:
             weight = scale(weight, materials.adjoint(bsdf, wo, d))
         beta = mul(beta, weight)

@@ -15,13 +15,18 @@ Row i of `vf` (floats) and `vi` (integers) is vertex i:
   REV    the area density of it drawn the other way, from the next vertex (MIS)
   ACC    the MIS weights' running sum up to it, set once the subpath is drawn
          (mis.accumulate)
+  WO     the unit direction from it to the vertex before (0 at vertex 0)
+  BACK   what turns a solid-angle density at it towards the vertex before into
+         that vertex's area density (area_factor; 0 at vertex 0)
 
 A vertex answers, for a pair of directions leaving it (wo towards where its
 light goes or comes from, wi the other): `scatter` = f(wo, wi) |cos theta_i|
 (the phase function at a medium, the emitted radiance times its cosine at a
-light) and `direction_pdf` = the solid-angle density of wi.  `to_area` turns
-a solid-angle density at one vertex into the area density of the next: times
-|cos| at the next if it lies on a surface, over the distance squared.  The
+light) and `direction_pdf` = the solid-angle density of wi.  `area_factor`
+turns a solid-angle density at one vertex into the area density of the next:
+times |cos| at the next if it lies on a surface, over the distance squared; put
+stores each vertex's WO and BACK towards the vertex before, which every
+strategy joined at it needs, so they are worked out once per vertex.  The
 material at a surface vertex is rebuilt from its row with its normal turned to
 wo's side, which is how the books make every material two-sided.
 """
@@ -34,8 +39,8 @@ from ..layout import DIFFUSE_LIGHT
 from ..materials import Bsdf, isotropic
 
 # Columns of vf.
-P, NG, BETA, COLOR, PARAM, FWD, REV, ACC = 0, 3, 6, 9, 12, 13, 14, 15
-NF = 16
+P, NG, BETA, COLOR, PARAM, FWD, REV, ACC, WO, BACK = 0, 3, 6, 9, 12, 13, 14, 15, 16, 19
+NF = 20
 # Columns of vi.
 TYPE, OBJ, MKIND, DELTA = 0, 1, 2, 3
 NI = 4
@@ -46,16 +51,26 @@ ZERO = (0.0, 0.0, 0.0)
 
 
 @jit_step
-def put(vf, vi, i, kind, p, n, beta, color, param, obj, mkind, delta, fwd):
-    """Write vertex i (its REV is set later, when the next vertex is drawn)."""
+def put(vf, vi, i, kind, p, n, beta, color, param, obj, mkind, delta, density):
+    """Write vertex i, and its WO and BACK towards vertex i - 1 (its REV is set
+    later, when the next vertex is drawn).  density: vertex 0's area density,
+    or the solid-angle density vertex i - 1 drew it with (FWD is its area
+    density)."""
+    wo, back, fwd = ZERO, 0.0, density
+    if i > 0:
+        wo, dist = toward(p, col(vf, i - 1, P))
+        back = area_factor(wo, dist, col(vf, i - 1, NG), on_surface(vi, i - 1))
+        fwd = density * area_factor(wo, dist, n, kind == SURFACE or kind == LIGHT)
     for c in range(3):
         vf[i, P + c] = p[c]
         vf[i, NG + c] = n[c]
         vf[i, BETA + c] = beta[c]
         vf[i, COLOR + c] = color[c]
+        vf[i, WO + c] = wo[c]
     vf[i, PARAM] = param
     vf[i, FWD] = fwd
     vf[i, REV] = 0.0
+    vf[i, BACK] = back
     vi[i, TYPE] = kind
     vi[i, OBJ] = obj
     vi[i, MKIND] = mkind
@@ -136,20 +151,17 @@ def direction_pdf(cam, vf, vi, i, wo, wi):
 
 
 @jit_step
-def to_area(pdf, p, q, n_q, surface):
-    """The area density at q of a direction drawn at p with solid-angle density
-    pdf: pdf |cos theta_q| / distance^2 (no cosine if q is in a medium or the
-    camera)."""
-    d = (q[0] - p[0], q[1] - p[1], q[2] - p[2])
-    dist2 = dot(d, d)
+def area_factor(w, dist, n_q, surface):
+    """What turns a solid-angle density into the area density at the point q at
+    `dist` along the unit direction w: |cos theta_q| / distance^2 (1 /
+    distance^2 if q is in a medium or the camera)."""
     if surface:
-        return pdf * abs(dot(d, n_q)) / (dist2 * math.sqrt(dist2))
-    return pdf / dist2
+        return abs(dot(w, n_q)) / (dist * dist)
+    return 1.0 / (dist * dist)
 
 
 @jit_step
-def area_density(cam, vf, vi, i, wo, wi, tf, ti, j):
-    """to_area(direction_pdf(...)) for vertex j of (tf, ti) drawn from vertex i
-    of (vf, vi) along wi."""
-    return to_area(direction_pdf(cam, vf, vi, i, wo, wi), col(vf, i, P), col(tf, j, P),
-                   col(tf, j, NG), on_surface(ti, j))
+def back_density(cam, vf, vi, i, wi):
+    """The area density of vertex i - 1 drawn from vertex i, which was reached
+    along wi: its REV as a strategy joined at vertex i makes it."""
+    return direction_pdf(cam, vf, vi, i, wi, col(vf, i, WO)) * vf[i, BACK]
