@@ -111,6 +111,32 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
 def unoccluded(scene, o, d, t_max, from_obj, from_inside, time):
     """Is the segment o + t d, 0 < t < t_max, clear of every object?  (The
     visibility of a connection between two points; what a ray leaving object
-    from_obj may meet, as for closest_hit.)"""
-    k, _ = closest_hit(scene, o, d, t_max, from_obj, from_inside, time)
-    return k == NO_HIT
+    from_obj may meet, as for closest_hit.)
+
+    closest_hit's walk, but it stops at the first object met: any one blocks
+    the segment, so a blocked one is known without finding its nearest hit."""
+    bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
+    no_bvh = bvh_node.shape[0] == 0
+    n_nodes = 1 if no_bvh else bvh_node.shape[0]
+    inv_d = d
+    if not no_bvh:
+        inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
+    i = 0
+    while i < n_nodes:
+        if no_bvh:
+            first, count, after = 0, bvh_prims.shape[0], 1
+        elif box_entry(bvh_box, i, o, inv_d, t_max):
+            count = bvh_node[i, 1]
+            if count == 0:
+                i += 1
+                continue
+            first, after = bvh_node[i, 0], bvh_node[i, 2]
+        else:
+            i = bvh_node[i, 2]
+            continue
+        for j in range(first, first + count):
+            k = bvh_prims[j] & NON_NEGATIVE
+            if shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time) < t_max:
+                return False
+        i = after
+    return True

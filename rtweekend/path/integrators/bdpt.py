@@ -38,7 +38,7 @@ from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, dot, mul, neg, scale
 from .. import camera, lights, media as volumes, shapes
 from .. import film as films
-from ..bvh import closest_hit
+from ..bvh import unoccluded
 from ..film import SEGMENTS
 from ..layout import DIFFUSE_LIGHT, NO_HIT
 from ..lights import background
@@ -68,8 +68,11 @@ def clear(scene, p, obj, n, w, dist, target, media, time):
     inside = np.bool_(False)
     if obj != NO_HIT:
         inside = shapes.enters(scene, obj, n, w)
-    k, t = closest_hit(scene, p, w, dist, obj, inside, time)
-    if k != NO_HIT and not (k == target and t >= dist * REACHED):
+    # Anything met short of the far end blocks, the target's own near side
+    # included; the end itself, which the search may find a rounding short of
+    # dist, must not: hence REACHED.
+    reach = dist if target == NO_HIT else dist * REACHED
+    if not unoccluded(scene, p, w, reach, obj, inside, time):
         return 0.0
     if media is not None:
         return volumes.transmittance(scene, media, p, w, dist, time)
