@@ -26,7 +26,7 @@ from ...kernel.jit import jit_step
 from ...kernel.vec3 import madd, mul, neg, scale
 from .. import camera, lights, materials, media as volumes, shapes
 from ..bvh import closest_hit
-from ..layout import DIFFUSE_LIGHT, ISOTROPIC, NO_HIT
+from ..layout import DIFFUSE_LIGHT, ISOTROPIC, LAMBERTIAN, NO_HIT
 from ..materials import isotropic, lambertian
 from ..roulette import roulette
 from ..surface import color_of, surface_at
@@ -43,6 +43,17 @@ def set_reverse(vf, i, pdf):
     """Vertex i's REV: its area density as drawn with solid-angle density pdf
     from vertex i + 1 (whose BACK converts it)."""
     vf[i, REV] = pdf * vf[i + 1, BACK]
+
+
+@jit_step
+def bounce(bsdf, wo, smp):
+    """materials.sample, a lambertian's direction drawn by
+    lambertian.cosine_lobe (no libm call)."""
+    if bsdf.kind == LAMBERTIAN:
+        u1, u2, smp = sampler.next_2d(smp)
+        wi = lambertian.cosine_lobe(bsdf.n, u1, u2)
+        return wi, bsdf.albedo, lambertian.pdf(bsdf.n, wi), False, smp
+    return materials.sample(bsdf, wo, smp)
 
 
 @jit_step
@@ -88,7 +99,7 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
         if n >= limit or not materials.scatters(bsdf):
             break
         wo = neg(d)
-        d, weight, density, delta, smp = materials.sample(bsdf, wo, smp)
+        d, weight, density, delta, smp = bounce(bsdf, wo, smp)
         if density == 0.0:
             break                               # absorbed
         if delta:
@@ -128,7 +139,7 @@ def light_subpath(scene, params, vf, vi, textures, media, time, smp):
     put(vf, vi, 0, LIGHT, p, n, scale(emit, 1.0 / origin), emit, 0.0, k, DIFFUSE_LIGHT, False,
         origin)
     u1, u2, smp = sampler.next_2d(smp)
-    d = lambertian.cosine_at(n, u1, u2)       # density cos / pi: Le cos / pdf = Le pi
+    d = lambertian.cosine_lobe(n, u1, u2)     # density cos / pi: Le cos / pdf = Le pi
     beta = scale(emit, math.pi / origin)
     start = max(beta[0], beta[1], beta[2])
     if not start > 0.0 or params.max_depth < 2:

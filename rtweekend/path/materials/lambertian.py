@@ -12,6 +12,7 @@ its side, the only case where f is not 0: eval and pdf are reciprocal.
 import math
 
 from ...kernel.jit import jit_step
+from ...kernel.trig import cos_sin_turns
 from ...kernel.vec3 import dot, local, onb
 
 INV_PI = 1.0 / math.pi
@@ -27,6 +28,19 @@ def cosine_at(n, u1, u2):
     z = math.sqrt(max(0.0, 1.0 - u2))
     u, v = onb(n)
     return local(u, v, n, (math.cos(phi) * s, math.sin(phi) * s, z))
+
+
+@jit_step
+def cosine_lobe(n, u1, u2):
+    """cosine_at with the angle's cosine and sine from kernel/trig.py instead
+    of libm's (a tenth of bidirectional path tracing's time): the same lobe,
+    other last bits.  bdpt draws with it; the other estimators keep cosine_at
+    and their images, bit for bit."""
+    c, s_phi = cos_sin_turns(u1)
+    s = math.sqrt(u2)
+    z = math.sqrt(max(0.0, 1.0 - u2))
+    u, v = onb(n)
+    return local(u, v, n, (c * s, s_phi * s, z))
 
 
 @jit_step
