@@ -66,19 +66,30 @@ def accumulate(vf, vi, first, n):
 
 
 @jit_step
+def power(density):
+    """density^POWER, a zero (a delta vertex's) read as 1."""
+    x = density if density != 0.0 else 1.0
+    if POWER == 2:
+        return x * x
+    return x
+
+
+@jit_step
 def side(vf, vi, end, end_rev, end_fwd, prev_rev, first):
     """The sum over one subpath of the strategies that move its vertices end,
-    end - 1, ... across: the ratios at `end` (its REV end_rev and FWD end_fwd,
-    as the connection makes them) and at end - 1 (REV prev_rev) times the
-    subpath's own ACC beyond them."""
+    end - 1, ... across, as (numerator, denominator): the ratios at `end` (its
+    REV end_rev and FWD end_fwd, as the connection makes them) and at end - 1
+    (REV prev_rev) times the subpath's own ACC beyond them.  A fraction, so
+    that weight divides once."""
     if end < first:
-        return 0.0
-    r = ratio(end_rev, end_fwd)
+        return 0.0, 1.0
+    rev, fwd = power(end_rev), power(end_fwd)
     # The endpoint itself is joined, so never delta: only its predecessor counts.
-    total = 0.0 if end > 0 and vi[end - 1, DELTA] != 0 else r
-    if end - 1 >= first:
-        total += r * ratio(prev_rev, vf[end - 1, FWD]) * vf[end - 1, ACC]
-    return total
+    ok = 0.0 if end > 0 and vi[end - 1, DELTA] != 0 else 1.0
+    if end - 1 < first:
+        return rev * ok, fwd
+    prev_fwd = power(vf[end - 1, FWD])
+    return rev * (ok * prev_fwd + power(prev_rev) * vf[end - 1, ACC]), fwd * prev_fwd
 
 
 @jit_step
@@ -89,9 +100,7 @@ def weight(cf, ci, lf, li, s, t, pt_rev, ptm_rev, qs_fwd, qs_rev, qsm_rev):
     above)."""
     if s + t == 2:
         return 1.0
-    others = 0.0
-    if t >= 2:
-        others += side(cf, ci, t - 1, pt_rev, cf[t - 1, FWD], ptm_rev, 1)
-    if s >= 1:
-        others += side(lf, li, s - 1, qs_rev, qs_fwd, qsm_rev, 0)
-    return 1.0 / (1.0 + others)
+    # 1 / (1 + a / b + c / d), one division.
+    a, b = side(cf, ci, t - 1, pt_rev, cf[t - 1, FWD], ptm_rev, 1)
+    c, d = side(lf, li, s - 1, qs_rev, qs_fwd, qsm_rev, 0)
+    return b * d / (b * d + a * d + c * b)
