@@ -408,3 +408,20 @@ def test_a_mesh_in_the_lights_list_is_refused():
 
 def test_a_scene_without_meshes_packs_no_mesh_tables():
     assert pack_scene(rt.load_scene("cornell_box")).tris is None
+
+
+@pytest.mark.parametrize("sampling", ["bdpt+sobol", "mixture+sobol"])
+def test_the_bundled_mesh_scene_renders_as_mitsuba_does(sampling):
+    # cornell_mesh (a mirror torus knot of 5,600 triangles in the Cornell box)
+    # against Mitsuba 3's converged render of it (its own ply loader and BVH),
+    # quarter by quarter as the failure scenes are (test_failures.py).
+    pytest.importorskip("trimesh", reason="needs the meshes extra")
+    from conftest import failure_reference
+    from stats import block_se, blocks
+    reference, ref_se = failure_reference("cornell_mesh")
+    r = rt.render(rt.load_scene("cornell_mesh"), spp=128, width=100, height=100,
+                  sampling=sampling, seed=11, threads=2)
+    assert r.stats.nan_dropped == 0
+    se = np.hypot(block_se(r.stderr, 50), block_se(ref_se, 50))
+    z = (blocks(r.image, 50) - blocks(reference, 50)) / se
+    assert z.size == 12 and np.abs(z).max() < 5, z
