@@ -192,13 +192,22 @@ def measure_peer_denoised(peer, name, scene, cfg, ref, ref_var, threads):
 
 
 def where_curves_meet(denoised, unbiased):
-    """The first of the denoised curve's times at which the unbiased curve's
-    error is as low (None: the denoised one leads wherever both were measured)."""
+    """The time from which the unbiased curve stays at or below the denoised one:
+    the first of the denoised curve's times after the last at which the
+    denoised image was ahead (None: it is ahead at the last time both were
+    measured).  At the first points the denoiser's own time can put it behind."""
+    meets, ahead_at_end = None, False
     for p in denoised:
         raw = rmse_at(unbiased, p["seconds"])
-        if raw is not None and raw <= p["rmse"]:
-            return p["seconds"]
-    return None
+        if raw is None:
+            continue
+        if raw > p["rmse"]:
+            meets, ahead_at_end = None, True
+        else:
+            if meets is None:
+                meets = p["seconds"]
+            ahead_at_end = False
+    return None if ahead_at_end else meets
 
 
 # ------------------------------------------------------------------ the peer --
