@@ -76,6 +76,7 @@ def build_bvh(obj_i, obj_f, ids=None):
         else:
             _, left = split
             build(ids[left])
+            nodes[i][0] = len(nodes)        # an inner node's right child
             build(ids[~left])
         nodes[i][2] = len(nodes)            # miss: the node after this subtree
 

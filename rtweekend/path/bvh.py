@@ -2,8 +2,8 @@
 
 Nodes are stored in depth-first order, so a node's left child is the next
 node, and each node keeps a "miss" link: the node to visit when the ray misses
-its box (the next node after its subtree).  Traversal is then a single loop
-with no stack, nothing allocated per ray:
+its box (the next node after its subtree).  unoccluded, which may stop at any
+object met, walks it in a single loop with no stack:
 
     i = 0
     while i < n_nodes:
@@ -13,16 +13,21 @@ with no stack, nothing allocated per ray:
 
 bvh_box[i]  = (min x, y, z, max x, y, z)
 bvh_node[i] = (first, count, miss): a leaf holds objects bvh_prims[first:first+count];
-              an inner node has count 0.  Without a hierarchy (no nodes), bvh_prims
-              lists every object once.
+              an inner node has count 0 and its right child as `first` (its left
+              one is i + 1).  Without a hierarchy (no nodes), bvh_prims lists every
+              object once.
 The split is the binned surface-area heuristic (pbrt's BVHAggregate, Wald 2007).
-closest_hit walks it (or, for small scenes, tests every object).
+closest_hit walks it so too in scenes without meshes; in scenes with meshes it
+visits the nearer child first and keeps the other on a small stack
+(kernel/stack.py), so that boxes beyond a hit already found are never opened.
+For small scenes it tests every object.
 """
 import math
 
 import numpy as np
 
 from ..kernel.jit import jit_step, like
+from ..kernel.stack import stack_array
 from . import shapes
 from .bvh_build import build_bvh, object_bounds  # noqa: F401  (the builder)
 from .layout import NO_HIT
@@ -32,6 +37,9 @@ NON_NEGATIVE = 0x7FFFFFFFFFFFFFFF
 # From this many primitives on, the BVH beats testing every object (whose loop
 # Numba compiles tightly): measured per scene in benchmarks/results/measurements.md.
 BVH_MIN_OBJECTS = 10
+# Nodes a walk may keep to visit later: at most one per level, and bvh_build
+# keeps trees shallower than this.
+STACK = 64
 
 
 def empty_bvh(n_objects, ids=None):
@@ -64,14 +72,50 @@ def box_entry(bvh_box, i, o, inv_d, t_max):
 
 
 @jit_step
+def box_near(bvh_box, i, o, inv_d, t_max):
+    """Where the ray enters box i (0 if it starts inside), or inf if it misses
+    it or enters at t_max or later.  (slab test, inv_d = 1 / d)"""
+    t0 = (bvh_box[i, 0] - o[0]) * inv_d[0]
+    t1 = (bvh_box[i, 3] - o[0]) * inv_d[0]
+    near, far = min(t0, t1), max(t0, t1)
+    t0 = (bvh_box[i, 1] - o[1]) * inv_d[1]
+    t1 = (bvh_box[i, 4] - o[1]) * inv_d[1]
+    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
+    t0 = (bvh_box[i, 2] - o[2]) * inv_d[2]
+    t1 = (bvh_box[i, 5] - o[2]) * inv_d[2]
+    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
+    if near <= far and far > 0.0 and near < t_max:
+        return max(near, like(near, 0.0))
+    return like(near, INF)
+
+
+@jit_step
 def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
     """(object index, t) of the nearest hit before t_max, or (NO_HIT, inf), for a
     ray leaving object from_obj (NO_HIT: none; from_inside: into its ball), at
     `time` on the shutter (None: nothing moves).
 
-    With an empty BVH every object is tested; otherwise the stackless walk
-    described above.
+    A scene with meshes walks its BVH nearer child first (ordered_nearest):
+    for a mesh, 5x the camera rays per second of the stackless walk; the
+    others keep that walk (stackless_nearest): measured beside each other,
+    the ordered walk made weekend 0.94x as fast and next_week_final 1.13x.
+    Which walk runs is decided when compiling (scene.tris is None or not),
+    and only that one is compiled.
     """
+    return _nearest(scene, scene.tris, o, d, t_max, from_obj, from_inside, time)
+
+
+@jit_step
+def _nearest(scene, tris, o, d, t_max, from_obj, from_inside, time):
+    if tris is None:
+        return stackless_nearest(scene, o, d, t_max, from_obj, from_inside, time)
+    return ordered_nearest(scene, o, d, t_max, from_obj, from_inside, time)
+
+
+@jit_step
+def stackless_nearest(scene, o, d, t_max, from_obj, from_inside, time):
+    """closest_hit by the stackless walk described above (every object with
+    an empty BVH): for scenes without meshes (see closest_hit)."""
     bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
     best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrators/path.py)
     # One loop for both cases, so shapes.distance is inlined at one call site
@@ -105,6 +149,67 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
         i = after
     return best, t_max
 
+
+@jit_step
+def ordered_nearest(scene, o, d, t_max, from_obj, from_inside, time):
+    """closest_hit for a scene with meshes.  With an empty BVH every object is
+    tested.  Otherwise the walk goes down
+    to the nearer child first and keeps the farther one, with where the ray
+    enters it, on a stack: once a hit is found, a kept node the ray enters
+    only beyond it is skipped unopened.  (Which hit is nearest does not
+    depend on the order objects are tested in, only how many are.)
+    """
+    bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
+    best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrators/path.py)
+    no_bvh = bvh_node.shape[0] == 0
+    inv_d = d                   # only the box tests of a hierarchy need 1 / d
+    if not no_bvh:
+        inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
+    nodes = stack_array(STACK, np.int64)
+    entries = stack_array(STACK, np.float64)
+    top = 0
+    i = 0
+    if not no_bvh and box_near(bvh_box, 0, o, inv_d, t_max) == INF:
+        i = -1
+    # One loop for both cases, so shapes.distance is inlined at one call site
+    # only (each inlined copy costs compile time): no BVH is a single leaf.
+    while True:
+        if i < 0:                           # the nearest kept node still worth opening
+            if top == 0:
+                break
+            top -= 1
+            if entries[top] < t_max:
+                i = nodes[top]
+            continue
+        if no_bvh:
+            first, count = 0, bvh_prims.shape[0]
+        else:
+            first, count = bvh_node[i, 0], bvh_node[i, 1]
+        if count > 0:
+            for j in range(first, first + count):
+                # An object index is >= 0: saying so spares every array access the
+                # test for a negative index (Python's a[-1]).
+                k = bvh_prims[j] & NON_NEGATIVE
+                t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time)
+                if t < t_max:
+                    t_max = t
+                    best = k
+            if no_bvh:
+                break
+            i = -1
+            continue
+        # An inner node: its left child is the next node, its right one `first`.
+        a, b = i + 1, first
+        ta = box_near(bvh_box, a, o, inv_d, t_max)
+        tb = box_near(bvh_box, b, o, inv_d, t_max)
+        if tb < ta:
+            a, b, ta, tb = b, a, tb, ta
+        i = a if ta < INF else -1
+        if tb < INF:
+            nodes[top] = b
+            entries[top] = tb
+            top += 1
+    return best, t_max
 
 
 @jit_step

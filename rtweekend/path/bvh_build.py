@@ -28,6 +28,10 @@ from .shapes import triangle
 LEAF_SIZE = 4         # at most this many objects per leaf (unless they cannot be split)
 BINS = 16             # centroid bins per axis for the SAH
 TRAVERSAL_COST = 1.0  # cost of a box test relative to an object test
+# bvh.closest_hit keeps at most one node per level on a stack of bvh.STACK:
+# from this depth on nodes are halved at the median, whatever the SAH says,
+# so no tree of up to 2^31 objects is deeper than 64 + 27 levels.
+MEDIAN_FROM_DEPTH = 64
 
 
 def object_bounds(obj_i, obj_f):
@@ -164,12 +168,12 @@ def _build(bounds, ids):
     scratch = np.empty(n, dtype=np.int64)
     # Depth first, left first: a stack of (start, end, the parent waiting for
     # this node's number as its right child; -1 for a left child or the root).
-    stack = np.empty((n + 1, 3), dtype=np.int64)
-    stack[0] = (0, n, -1)
+    stack = np.empty((n + 1, 4), dtype=np.int64)
+    stack[0] = (0, n, -1, 0)
     top, count, placed = 1, 0, 0
     while top > 0:
         top -= 1
-        start, end, parent = stack[top]
+        start, end, parent, depth = stack[top]
         i = count
         count += 1
         if parent >= 0:
@@ -180,7 +184,8 @@ def _build(bounds, ids):
                 lo, hi = min(lo, bounds[ids[j], c]), max(hi, bounds[ids[j], 3 + c])
             box[i, c], box[i, 3 + c] = lo, hi
         m = end - start
-        split = m > 1 and _split(bounds, centroids, ids, start, end, goes_left)
+        split = m > 1 and depth < MEDIAN_FROM_DEPTH and _split(bounds, centroids, ids, start,
+                                                               end, goes_left)
         if not split and m > LEAF_SIZE:
             _median_split(centroids, ids, start, end, goes_left)
             split = True
@@ -199,13 +204,15 @@ def _build(bounds, ids):
                 scratch[b] = ids[start + j]
                 b += 1
         ids[a:end] = scratch[:b]
-        stack[top] = (a, end, i)            # the right child, after the left subtree
-        stack[top + 1] = (start, a, -1)     # the left child: next
+        stack[top] = (a, end, i, depth + 1)         # the right child, after the left subtree
+        stack[top + 1] = (start, a, -1, depth + 1)  # the left child: next
         top += 2
     # A node's miss link is the node after its subtree: sizes, children first.
+    # An inner node's first column is its right child (its left is the next node).
     size = np.ones(count, dtype=np.int64)
     for i in range(count - 1, -1, -1):
         if node[i, 1] == 0:
             size[i] = 1 + size[i + 1] + size[right[i]]
+            node[i, 0] = right[i]
         node[i, 2] = i + size[i]
     return box[:count].copy(), node[:count].copy(), prims[:placed].copy()
