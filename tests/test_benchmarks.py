@@ -331,3 +331,19 @@ def test_mitsuba_peer_quick_series_with_features(tmp_path):
     with np.load(tmp_path / "peer.npz") as f:
         assert f["images"].shape == (3, 16, 16, 9) and list(f["spp"]) == [1, 2, 4]
         assert np.isfinite(f["images"]).all()
+
+
+def test_meshes_benchmark_quick(tmp_path):
+    pytest.importorskip("trimesh", reason="needs the meshes extra")
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "meshes.py"), "--quick",
+                        "--runs", "1", "--out", str(tmp_path)], capture_output=True, text=True,
+                       timeout=900)
+    assert r.returncode == 0, r.stderr[-2000:]
+    data = json.loads((tmp_path / "meshes.json").read_text())
+    assert data["build"]["triangles"] > 10_000 and data["build"]["rtweekend_bvh_s"] > 0
+    for kind in ("camera", "diffuse"):
+        row = data["traversal"][kind]
+        assert row["rtweekend_rays_per_s"] > 0 and row["hit_fraction"] > 0.05
+        if "embree_hit_fraction" in row:       # the same rays meet the same mesh
+            assert abs(row["embree_hit_fraction"] - row["hit_fraction"]) < 0.01
+    assert data["whole"]["rtweekend_wall_s"] > 0
