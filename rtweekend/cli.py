@@ -10,6 +10,7 @@ import argparse
 import os
 import signal
 import sys
+import threading
 from pathlib import Path
 
 from . import checks
@@ -144,9 +145,18 @@ def _warn_in_one_line(message, category, filename, lineno, file=None, line=None)
 
 def main(argv=None):
     import warnings
-    with warnings.catch_warnings():          # restored on return (main in a test)
-        warnings.showwarning = _warn_in_one_line
-        return _main(argv)
+    in_main_thread = threading.current_thread() is threading.main_thread()
+    interrupt = signal.getsignal(signal.SIGINT) if in_main_thread else None
+    try:
+        with warnings.catch_warnings():      # restored on return (main in a test)
+            warnings.showwarning = _warn_in_one_line
+            return _main(argv)
+    finally:
+        # _render ignores Ctrl-C once its file is written; a caller of main()
+        # (a test, a script) gets its own handler back -- and the processes it
+        # starts then do not inherit an ignored Ctrl-C.
+        if in_main_thread:
+            signal.signal(signal.SIGINT, interrupt)
 
 
 def _main(argv):
@@ -251,7 +261,8 @@ def _render(args):
         raise OutputError(f"{output}: cannot write: {e.strerror or e}") from None
     # The file is in place: a Ctrl-C now would only turn the exit status into
     # a signal's; the two lines below take no time.
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
     print(f"{output}: {stats.summary()}")
     if stats.interrupted:
         why = "interrupted" if stats.stopped_by in (None, "Ctrl-C") else stats.stopped_by

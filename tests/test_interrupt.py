@@ -379,3 +379,14 @@ def test_the_compile_clock_ticks_while_the_kernel_thread_works():
     ticks = []
     assert call_awake(lambda: time.sleep(6 * POLL) or 7, tick=lambda: ticks.append(1)) == 7
     assert len(ticks) >= 3
+
+
+def test_the_command_run_in_process_gives_back_the_ctrl_c_handler(tmp_path):
+    # The command ignores Ctrl-C once its file is written; called in-process
+    # (a script, these tests) it must not leave it ignored -- the processes a
+    # caller starts afterwards would inherit the ignored Ctrl-C.
+    import signal
+    from rtweekend.cli import main
+    before = signal.getsignal(signal.SIGINT)
+    assert main(["render", "cgfs", "-o", str(tmp_path / "c.png"), "-q", "--width", "8"]) == 0
+    assert signal.getsignal(signal.SIGINT) is before
