@@ -58,6 +58,14 @@ def test_same_bits_as_a_local_render(cornell_box, client):
     assert far.stats.spp == 40 and not far.stats.interrupted and far.stats.threads == 2
 
 
+def test_a_mesh_scene_is_the_same_bits_as_a_local_render(client):
+    # The mesh tables travel with the scene's arrays to the workers.
+    pytest.importorskip("trimesh", reason="needs the meshes extra")
+    scene = rt.load_scene("cornell_mesh")
+    assert_same(rt.render(scene, spp=40, client=client, **SMALL),
+                rt.render(scene, spp=40, **SMALL))
+
+
 @pytest.mark.parametrize("sampling", ["lightpath", "bdpt"])
 def test_light_carried_to_the_camera_is_the_same_bits_as_a_local_render(cornell_box, client,
                                                                        sampling):
