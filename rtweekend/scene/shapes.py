@@ -235,9 +235,9 @@ def mesh(file: str | Path | tuple, material: Material, *, scale: float | Vec3 = 
                              " or (vertices, faces, uvs)") from None
         uvs = rest[0] if rest else None
         where = "mesh"
-    try:
+    if isinstance(scale, (list, tuple, np.ndarray)):
         factor = fields.vec3(scale, "scale")
-    except FieldError:
+    else:
         factor = (fields.number(scale, "scale"),) * 3
     if not all(abs(s) >= fields.SMALLEST for s in factor):
         raise FieldError("scale", f"must not be 0, got {scale}")
