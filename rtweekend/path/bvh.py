@@ -57,21 +57,6 @@ def reciprocal(x):
 
 
 @jit_step
-def box_entry(bvh_box, i, o, inv_d, t_max):
-    """Does the ray enter box i before t_max?  (slab test, inv_d = 1 / d)"""
-    t0 = (bvh_box[i, 0] - o[0]) * inv_d[0]
-    t1 = (bvh_box[i, 3] - o[0]) * inv_d[0]
-    near, far = min(t0, t1), max(t0, t1)
-    t0 = (bvh_box[i, 1] - o[1]) * inv_d[1]
-    t1 = (bvh_box[i, 4] - o[1]) * inv_d[1]
-    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
-    t0 = (bvh_box[i, 2] - o[2]) * inv_d[2]
-    t1 = (bvh_box[i, 5] - o[2]) * inv_d[2]
-    near, far = max(near, min(t0, t1)), min(far, max(t0, t1))
-    return near <= far and far > 0.0 and near < t_max
-
-
-@jit_step
 def box_near(bvh_box, i, o, inv_d, t_max):
     """Where the ray enters box i (0 if it starts inside), or inf if it misses
     it or enters at t_max or later.  (slab test, inv_d = 1 / d)"""
@@ -90,6 +75,12 @@ def box_near(bvh_box, i, o, inv_d, t_max):
 
 
 @jit_step
+def box_entry(bvh_box, i, o, inv_d, t_max):
+    """Does the ray enter box i before t_max?"""
+    return box_near(bvh_box, i, o, inv_d, t_max) != INF
+
+
+@jit_step
 def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
     """(object index, t) of the nearest hit before t_max, or (NO_HIT, inf), for a
     ray leaving object from_obj (NO_HIT: none; from_inside: into its ball), at
@@ -97,7 +88,7 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
 
     A scene with meshes walks its BVH nearer child first (ordered_nearest):
     for a mesh, 5x the camera rays per second of the stackless walk; the
-    others keep that walk (stackless_nearest): measured beside each other,
+    others keep that walk (stackless_walk): measured beside each other,
     the ordered walk made weekend 0.94x as fast and next_week_final 1.13x.
     Which walk runs is decided when compiling (scene.tris is None or not),
     and only that one is compiled.
@@ -108,14 +99,16 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
 @jit_step
 def _nearest(scene, tris, o, d, t_max, from_obj, from_inside, time):
     if tris is None:
-        return stackless_nearest(scene, o, d, t_max, from_obj, from_inside, time)
+        return stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, False)
     return ordered_nearest(scene, o, d, t_max, from_obj, from_inside, time)
 
 
 @jit_step
-def stackless_nearest(scene, o, d, t_max, from_obj, from_inside, time):
-    """closest_hit by the stackless walk described above (every object with
-    an empty BVH): for scenes without meshes (see closest_hit)."""
+def stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, first_hit):
+    """The stackless walk described above (every object with an empty BVH):
+    (object, t) of the nearest hit before t_max, or, with first_hit, of the
+    first one met (unoccluded: any object blocks a segment).  closest_hit's in
+    scenes without meshes."""
     bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
     best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrators/path.py)
     # One loop for both cases, so shapes.distance is inlined at one call site
@@ -146,6 +139,8 @@ def stackless_nearest(scene, o, d, t_max, from_obj, from_inside, time):
             if t < t_max:
                 t_max = t
                 best = k
+                if first_hit:
+                    return best, t_max
         i = after
     return best, t_max
 
@@ -216,32 +211,7 @@ def ordered_nearest(scene, o, d, t_max, from_obj, from_inside, time):
 def unoccluded(scene, o, d, t_max, from_obj, from_inside, time):
     """Is the segment o + t d, 0 < t < t_max, clear of every object?  (The
     visibility of a connection between two points; what a ray leaving object
-    from_obj may meet, as for closest_hit.)
-
-    closest_hit's walk, but it stops at the first object met: any one blocks
-    the segment, so a blocked one is known without finding its nearest hit."""
-    bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
-    no_bvh = bvh_node.shape[0] == 0
-    n_nodes = 1 if no_bvh else bvh_node.shape[0]
-    inv_d = d
-    if not no_bvh:
-        inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
-    i = 0
-    while i < n_nodes:
-        if no_bvh:
-            first, count, after = 0, bvh_prims.shape[0], 1
-        elif box_entry(bvh_box, i, o, inv_d, t_max):
-            count = bvh_node[i, 1]
-            if count == 0:
-                i += 1
-                continue
-            first, after = bvh_node[i, 0], bvh_node[i, 2]
-        else:
-            i = bvh_node[i, 2]
-            continue
-        for j in range(first, first + count):
-            k = bvh_prims[j] & NON_NEGATIVE
-            if shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time) < t_max:
-                return False
-        i = after
-    return True
+    from_obj may meet, as for closest_hit.)  The stackless walk, stopped at the
+    first object met: any one blocks the segment."""
+    k, _ = stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, True)
+    return k == NO_HIT
