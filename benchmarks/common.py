@@ -7,6 +7,7 @@ import platform
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 import numba
@@ -91,3 +92,13 @@ def first_render_and_next(argv, env=None):
                 raise RuntimeError(f"{' '.join(argv[:3])} failed:\n{r.stderr[-2000:]}")
             images.append(np.load(f"{out}.npy"))
     return int((images[0] != images[1]).sum()), images[0].size
+
+
+def median_seconds(fn, runs):
+    """The median wall time of `runs` calls of fn() (warm it up first)."""
+    times = []
+    for _ in range(runs):
+        t0 = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t0)
+    return float(np.median(times))

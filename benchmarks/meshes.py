@@ -39,12 +39,13 @@ from numba import njit
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from common import machine, parser, save_json  # noqa: E402
+from common import machine, median_seconds, parser, save_json  # noqa: E402
 
 import rtweekend as rt  # noqa: E402
 from rtweekend.path import bvh, bvh_build  # noqa: E402
 from rtweekend.path.layout import NO_HIT  # noqa: E402
 from rtweekend.path.pack import pack_scene  # noqa: E402
+from rtweekend.path.shapes import triangle  # noqa: E402
 
 IMAGE = 512
 
@@ -82,15 +83,6 @@ def write_obj(path, v, f):
         np.savetxt(out, f + 1, fmt="f %d %d %d")
 
 
-def median_time(fn, runs):
-    times = []
-    for _ in range(runs):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return float(np.median(times))
-
-
 # ------------------------------------------------------------------ the rays --
 def camera_rays(size):
     """Pixel centres of a pinhole at (0, 0, 3.2) looking at the origin, vfov 45."""
@@ -117,7 +109,7 @@ def bounce_rays(a, o, d, k, t, seed=1):
     """From each hit, a cosine-distributed direction about the normal facing back."""
     hit = k != NO_HIT
     p = o[hit] + d[hit] * t[hit, None]
-    n = a.obj_f[k[hit], 9:12]
+    n = a.obj_f[k[hit], triangle.N:triangle.N + 3]
     n = np.where(((n * d[hit]).sum(axis=1) > 0)[:, None], -n, n)
     rng = np.random.default_rng(seed)
     u1, u2 = rng.random(len(p)), rng.random(len(p))
@@ -138,9 +130,9 @@ def build_part(v, f, runs):
     pack_scene(scene)                            # warm-up (compiles the builder)
     arrays = pack_scene(scene)
     out = dict(triangles=len(f),
-               rtweekend_bvh_s=median_time(lambda: bvh_build.build_bvh(arrays.obj_i,
-                                                                       arrays.obj_f), runs),
-               rtweekend_pack_s=median_time(lambda: pack_scene(scene), runs))
+               rtweekend_bvh_s=median_seconds(lambda: bvh_build.build_bvh(arrays.obj_i,
+                                                                          arrays.obj_f), runs),
+               rtweekend_pack_s=median_seconds(lambda: pack_scene(scene), runs))
     try:
         from embreex import rtcore_scene as rtcs
         from embreex.mesh_construction import TriangleMesh
@@ -156,7 +148,7 @@ def build_part(v, f, runs):
         s.run(*probe)                            # Embree builds on the first query
         return s
     embree_build()
-    out["embree_build_s"] = median_time(embree_build, runs)
+    out["embree_build_s"] = median_seconds(embree_build, runs)
     out["bvh_vs_embree_build"] = out["rtweekend_bvh_s"] / out["embree_build_s"]
     return out, arrays, embree_build()
 
@@ -171,13 +163,13 @@ def traversal_part(arrays, embree, runs, size):
     for name, (ro, rd, leave) in {"camera": (o, d, none), "diffuse": (bo, bd, bk)}.items():
         row = dict(rays=len(ro), hit_fraction=float(
             (_trace(arrays, ro, rd, leave)[0] != NO_HIT).mean()))
-        row["rtweekend_rays_per_s"] = len(ro) / median_time(
+        row["rtweekend_rays_per_s"] = len(ro) / median_seconds(
             lambda: _trace(arrays, ro, rd, leave), runs)
         if embree is not None:
             eo = np.ascontiguousarray(ro + (bn * 1e-4 if name == "diffuse" else 0), np.float32)
             ed = np.ascontiguousarray(rd, np.float32)
             embree.run(eo, ed)
-            row["embree_rays_per_s"] = len(ro) / median_time(lambda: embree.run(eo, ed), runs)
+            row["embree_rays_per_s"] = len(ro) / median_seconds(lambda: embree.run(eo, ed), runs)
             row["embree_hit_fraction"] = float((embree.run(eo, ed) >= 0).mean())
             row["ratio"] = row["rtweekend_rays_per_s"] / row["embree_rays_per_s"]
         rows[name] = row

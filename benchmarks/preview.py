@@ -9,25 +9,14 @@ MIN_INTERVAL the share of the render it costs is at most update / MIN_INTERVAL.
 Measured on cornell_box at --size x --size after 4 spp: the median of --runs
 updates each, and that share.  Writes benchmark-results/preview.json.
 """
-import statistics
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from common import machine, parser, save_json  # noqa: E402
+from common import machine, median_seconds, parser, save_json  # noqa: E402
 
 import rtweekend as rt  # noqa: E402
 from rtweekend.io import preview, tev  # noqa: E402
-
-
-def median_seconds(fn, runs):
-    times = []
-    for _ in range(runs):
-        t0 = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t0)
-    return statistics.median(times)
 
 
 def main(argv=None):

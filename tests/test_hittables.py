@@ -6,14 +6,14 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from numba import njit
-
 import rtweekend as rt
 from rtweekend.path import shapes
 from rtweekend.path.bvh import INF, closest_hit
 from rtweekend.path.surface import face_normal
 from rtweekend.path.layout import NO_HIT
 from rtweekend.path.pack import pack_scene
+
+from rays import nearest_hits
 
 MAT = rt.lambertian((0.5, 0.5, 0.5))
 
@@ -286,12 +286,22 @@ def test_a_ray_inside_a_box_meets_its_far_side(bvh):
     assert np.allclose(h["n_out"], (-1, 0, 0)) and h["front"]
 
 
+def _random_spheres_and_boxes(rng, spheres, boxes, extent):
+    """A scene of spheres and turned boxes scattered in [-extent, extent]^3."""
+    scene = rt.Scene()
+    for _ in range(spheres):
+        scene.add(rt.sphere(rng.uniform(-extent, extent, 3), rng.uniform(0.1, 5), MAT))
+    for _ in range(boxes):
+        lo = rng.uniform(-extent, extent, 3)
+        scene.add(rt.box(lo, lo + rng.uniform(0.5, 9, 3), MAT).rotate_y(rng.uniform(0, 90)))
+    return scene
+
+
 def test_the_compiled_bvh_builder_builds_the_numpy_reference_tree():
     # Every bundled scene, and random spheres, boxes and triangles: the same
     # boxes, nodes and object order, bit for bit (so images do not change).
     import bvh_reference
     from rtweekend.path.bvh_build import build_bvh
-    from rtweekend.path.pack import pack_scene
 
     def same(arrays, ids=None):
         new = build_bvh(arrays.obj_i, arrays.obj_f, ids)
@@ -302,12 +312,7 @@ def test_the_compiled_bvh_builder_builds_the_numpy_reference_tree():
         if scene.resolved_integrator() == "path":
             assert same(pack_scene(scene, bvh=False)), name
     rng = np.random.default_rng(4)
-    scene = rt.Scene()
-    for _ in range(300):
-        scene.add(rt.sphere(rng.uniform(-50, 50, 3), rng.uniform(0.1, 5), MAT))
-    for _ in range(40):
-        lo = rng.uniform(-50, 50, 3)
-        scene.add(rt.box(lo, lo + rng.uniform(0.5, 9, 3), MAT).rotate_y(rng.uniform(0, 90)))
+    scene = _random_spheres_and_boxes(rng, 300, 40, 50)
     v = rng.uniform(-60, 60, (900, 3))
     scene.add(rt.mesh((v, rng.integers(0, 900, (700, 3))), MAT))
     scene.add(rt.mesh((np.zeros((3, 3)) + [[0, 0, 0], [1, 0, 0], [0, 1, 0]],    # 30 copies:
@@ -317,35 +322,18 @@ def test_the_compiled_bvh_builder_builds_the_numpy_reference_tree():
     assert same(arrays, np.arange(0, len(arrays.obj_i), 3))
 
 
-@njit
-def _nearest_all(a, o, d):
-    k = np.empty(o.shape[0], dtype=np.int64)
-    t = np.empty(o.shape[0])
-    for i in range(o.shape[0]):
-        k[i], t[i] = closest_hit(a, (o[i, 0], o[i, 1], o[i, 2]),
-                                 (d[i, 0], d[i, 1], d[i, 2]), np.inf,
-                                 np.int64(NO_HIT), False, None)
-    return k, t
-
-
 def test_the_ordered_walk_finds_what_the_stackless_walk_finds():
     # Scenes with meshes walk the BVH nearer child first (bvh.ordered_nearest),
     # the others by its miss links: on the same tree, the same hits, bit for bit.
     from rtweekend.path.layout import Triangles
-    from rtweekend.path.pack import pack_scene
     rng = np.random.default_rng(8)
-    scene = rt.Scene()
-    for _ in range(400):
-        scene.add(rt.sphere(rng.uniform(-20, 20, 3), rng.uniform(0.2, 3), MAT))
-    for _ in range(30):
-        lo = rng.uniform(-20, 20, 3)
-        scene.add(rt.box(lo, lo + rng.uniform(0.5, 6, 3), MAT).rotate_y(rng.uniform(0, 90)))
+    scene = _random_spheres_and_boxes(rng, 400, 30, 20)
     stackless = pack_scene(scene, bvh=True)
     ordered = stackless._replace(tris=Triangles(np.zeros((0, 6))))
     o = rng.uniform(-30, 30, (20_000, 3))
     d = rng.normal(size=(20_000, 3))
     d /= np.linalg.norm(d, axis=1, keepdims=True)
-    k1, t1 = _nearest_all(stackless, o, d)
-    k2, t2 = _nearest_all(ordered, o, d)
+    k1, t1 = nearest_hits(stackless, o, d)
+    k2, t2 = nearest_hits(ordered, o, d)
     assert (k1 != NO_HIT).mean() > 0.3
     assert np.array_equal(k1, k2) and np.array_equal(t1, t2)

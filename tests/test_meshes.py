@@ -10,11 +10,12 @@ import pytest
 from numba import njit
 
 import rtweekend as rt
-from rtweekend.kernel.rng import seed_state, unit_vector
-from rtweekend.path import bvh, shapes
+from rtweekend.kernel.rng import seed_state
+from rtweekend.path import shapes
 from rtweekend.path.layout import NO_HIT, TRIANGLE
 from rtweekend.path.pack import pack_scene
 
+from rays import nearest_hits, uniform_directions
 from stats import assert_chi2
 
 GREY = rt.lambertian((0.5, 0.5, 0.5))
@@ -61,21 +62,6 @@ def box_mesh(lo, hi):
 
 # -- the watertight test ---------------------------------------------------------------
 
-@njit
-def _misses(a, origins, targets):
-    """How many rays from origins[i] aimed at targets[i] meet nothing."""
-    n = 0
-    for i in range(origins.shape[0]):
-        o = (origins[i, 0], origins[i, 1], origins[i, 2])
-        d = (targets[i, 0] - o[0], targets[i, 1] - o[1], targets[i, 2] - o[2])
-        inv = 1.0 / math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
-        d = (d[0] * inv, d[1] * inv, d[2] * inv)
-        k, _ = bvh.closest_hit(a, o, d, math.inf, np.int64(NO_HIT), False, None)
-        if k == NO_HIT:
-            n += 1
-    return n
-
-
 def test_no_ray_slips_through_the_edges_and_vertices_of_a_closed_mesh():
     # 10^6 rays aimed at the vertices and edges of a closed sphere mesh, within
     # rounding of them (in double precision a test that is not watertight
@@ -104,20 +90,7 @@ def test_no_ray_slips_through_the_edges_and_vertices_of_a_closed_mesh():
     angle = np.arccos(1 - rng.random((n, 1)) * (1 - math.cos(math.radians(60))))
     directions = outward * np.cos(angle) + away * np.sin(angle)
     origins = targets + directions * rng.uniform(0.5, 50, (n, 1))
-    assert _misses(a, origins, targets) == 0
-
-
-@njit
-def _misses_exact(a, origins, targets):
-    """As _misses, with d = target - origin unnormalised: exact for integers."""
-    n = 0
-    for i in range(origins.shape[0]):
-        o = (origins[i, 0], origins[i, 1], origins[i, 2])
-        d = (targets[i, 0] - o[0], targets[i, 1] - o[1], targets[i, 2] - o[2])
-        k, _ = bvh.closest_hit(a, o, d, math.inf, np.int64(NO_HIT), False, None)
-        if k == NO_HIT:
-            n += 1
-    return n
+    assert (nearest_hits(a, origins, targets - origins)[0] != NO_HIT).all()
 
 
 def test_rays_exactly_through_edges_and_vertices_meet_the_mesh():
@@ -146,7 +119,8 @@ def test_rays_exactly_through_edges_and_vertices_meet_the_mesh():
     inward = ((targets - origins)[:, None, :] * normals[None]).sum(-1) < 0
     keep = np.where(touches, inward, True).all(axis=1) & touches.any(axis=1)
     assert keep.sum() > 30_000
-    assert _misses_exact(a, origins[keep], targets[keep]) == 0
+    # Directions target - origin, not normalised: exact for integers.
+    assert (nearest_hits(a, origins[keep], targets[keep] - origins[keep])[0] != NO_HIT).all()
 
 
 # -- exact answers --------------------------------------------------------------------
@@ -242,15 +216,6 @@ def _density(a, k, p, dirs):
     return out
 
 
-@njit
-def _uniform_dirs(count, seed):
-    out = np.empty((count, 3))
-    for i in range(count):
-        d, _ = unit_vector(seed_state(i, 1, seed))
-        out[i, 0], out[i, 1], out[i, 2] = d
-    return out
-
-
 def test_a_triangles_light_density_integrates_to_one_and_its_samples_follow_it():
     scene = rt.Scene()
     scene.add(rt.mesh((np.array([[-1.0, -0.5, 1.0], [1.2, 0.1, 1.5], [0.0, 1.0, 0.8]]),
@@ -258,7 +223,7 @@ def test_a_triangles_light_density_integrates_to_one_and_its_samples_follow_it()
     a = pack_scene(scene)
     assert a.obj_i[0, 0] == TRIANGLE
     p = (0.1, 0.0, 0.0)
-    v = _density(a, 0, p, _uniform_dirs(400_000, 7)) * 4 * math.pi
+    v = _density(a, 0, p, uniform_directions(400_000, 7)) * 4 * math.pi
     assert abs(v.mean() - 1.0) < 5 * v.std() / math.sqrt(len(v))
     dirs = _toward(a, 0, p, 200_000, 11)
     assert (_density(a, 0, p, dirs) > 0).all()

@@ -13,12 +13,12 @@ from numba import njit
 
 import rtweekend as rt
 from rtweekend.kernel import sampler
-from rtweekend.kernel.rng import seed_state, unit_vector
 from rtweekend.path import pdf
 from rtweekend.path.layout import LAMBERTIAN, NO_HIT
 from rtweekend.path.materials import Bsdf
 from rtweekend.path.pack import pack_scene
 
+from rays import uniform_directions
 from stats import assert_chi2
 
 MAT = rt.lambertian((0.5, 0.5, 0.5))
@@ -45,15 +45,6 @@ def _value(a, p, n, w, dirs):
     for i in range(dirs.shape[0]):
         d = (dirs[i, 0], dirs[i, 1], dirs[i, 2])
         out[i] = pdf.mixture_value(a, bsdf, n, p, w, d, NO_HIT, False, None)
-    return out
-
-
-@njit
-def _uniform_dirs(count, seed):
-    out = np.empty((count, 3))
-    for i in range(count):
-        d, _ = unit_vector(seed_state(i, 1, seed))
-        out[i, 0], out[i, 1], out[i, 2] = d
     return out
 
 
@@ -91,7 +82,7 @@ CASES = {
 @pytest.mark.parametrize("name", CASES)
 def test_pdf_integrates_to_one(name):
     a, p, n, w = CASES[name]()
-    dirs = _uniform_dirs(400_000, 7)
+    dirs = uniform_directions(400_000, 7)
     v = _value(a, p, n, w, dirs) * 4 * math.pi
     se = v.std() / math.sqrt(len(v))
     assert abs(v.mean() - 1.0) < 5 * se + 1e-12, (v.mean(), se)
