@@ -116,6 +116,25 @@ def test_each_strategy_alone_renders_the_path_tracers_paths_of_its_length(segmen
     assert want > 0.01
 
 
+@pytest.mark.parametrize("sampling", ["bdpt", "bdpt+sobol"])
+def test_a_caustic_seen_directly_is_as_quiet_as_light_tracing_makes_it(sampling):
+    # The floor just in front of where the glass ball of `caustic` touches it:
+    # its light comes through the ball (light, glass, glass, floor, camera),
+    # which light tracing (t = 1) renders with little noise and the camera
+    # subpath (s = 0) only by hitting the small light through the glass.  The
+    # MIS weights must give it to light tracing.  Compared in area measure
+    # across the glass (1 / distance^2 to the ball, a few units here), they
+    # gave it to s = 0: 10x light tracing's standard error there (rows 86-88).
+    scene = rt.load_scene("caustic")
+    size = dict(width=100, height=100, threads=2, spp=64)
+    area = (slice(86, 89), slice(44, 56))
+    light = rt.render(scene, sampling="lightpath", seed=1, **size)
+    both = rt.render(scene, sampling=sampling, seed=1, **size)
+    assert light.image[area].mean() > 0.15         # the caustic is there (0.23)
+    ratio = both.stderr[area].mean() / light.stderr[area].mean()
+    assert ratio < 1.5, f"bdpt's standard error {ratio:.1f}x light tracing's"
+
+
 def test_bdpt_renders_cornell_glass_as_mitsuba_does_mirror_glass_and_caustics_included(
         cornell_glass_reference):
     reference, ref_se = cornell_glass_reference
