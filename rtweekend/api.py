@@ -37,8 +37,10 @@ def render(scene: Scene, spp: int | None = None, *, seed: int = 0,
     light) or "nee" (next-event estimation with MIS and Russian roulette);
     "mixture+sobol" and "nee+sobol" feed them low-discrepancy points for the
     pixel position and the first diffuse bounce; "lightpath" (light tracing),
-    "bdpt" and "bdpt+sobol" (bidirectional).  None: options.default_sampling,
-    bdpt+sobol where emitters light much metal or glass, else mixture+sobol.
+    "bdpt" and "bdpt+sobol" (bidirectional), "bdpt+photons" (bdpt+sobol with
+    caustic photon maps: consistent).  None: options.default_sampling,
+    bdpt+photons or bdpt+sobol where emitters light much metal or glass, else
+    mixture+sobol.
     progress: True for a bar on stderr, or a callable
     progress(spp_done, spp_total_or_None, samples_per_s).  bvh: force the
     hierarchy on (True) or off (False); by default scenes with many objects use it.

@@ -104,8 +104,10 @@ def build_parser():
                    "only, or nee: next-event estimation (shadow rays, MIS) with Russian "
                    "roulette; lightpath: light tracing; bdpt: bidirectional path tracing "
                    "(caustics without fireflies); +sobol: low-discrepancy points for the "
-                   "pixel position and the first bounce (default: bdpt+sobol where light "
-                   "can reach metal or glass, else mixture+sobol)")
+                   "pixel position and the first bounce; bdpt+photons: bdpt+sobol with "
+                   "caustic photon maps for caustics seen through glass (consistent) "
+                   "(default: bdpt+photons or bdpt+sobol where light can reach metal or "
+                   "glass, else mixture+sobol)")
     r.add_argument("--clamp", type=_option("clamp", float), metavar="X", help="cap every sample's "
                    "channels at X: fewer fireflies, but BIASED (darker); off by default")
     r.add_argument("--denoise", action="store_true", help="write the image denoised by Intel "

@@ -47,6 +47,7 @@ class Sampling:
     sobol: bool = False
     facing: bool = False
     estimator: str = "path"      # path/integrators/: "path", or "light" (light tracing)
+    photons: bool = False        # bdpt: caustic photon maps (integrators/photons.py)
 
 
 SAMPLINGS = {
@@ -63,19 +64,23 @@ SAMPLINGS = {
     # subpath to a light subpath, weighted by MIS.
     "bdpt": Sampling(0.0, estimator="bdpt"),
     "bdpt+sobol": Sampling(0.0, sobol=True, estimator="bdpt"),
+    # bdpt+sobol, and caustic photon maps for the diffuse surfaces seen through
+    # glass or in mirrors (consistent: their bias shrinks as samples add up).
+    "bdpt+photons": Sampling(0.0, sobol=True, estimator="bdpt", photons=True),
 }
 # The default: the strategy with the lowest error at equal time, by what the
 # scene holds (benchmarks/strategies.py and accuracy.py; docs/accuracy.md).
 # Where emitters light metal or glass that is a noticeable part of the scene
-# (SPECULAR_SHARE of its surface area or more) and that the lights list does not
-# aim the mixture at, bidirectional path tracing finds the caustics and the light
-# through glass or off mirrors that camera paths find only by chance; elsewhere
-# it pays for connections that find little new.  Measured: next_week_final (0.7%
-# metal or glass) 1.65x the mixture's error; caustic, whose glass ball is in the
-# lights list (the books' way to render its caustic), 1.1-1.4x.  "mixture" is
-# the books'.
+# (SPECULAR_SHARE of its surface area or more), bidirectional path tracing
+# finds the caustics and the light through glass or off mirrors that camera
+# paths find only by chance, and its caustic photon maps the caustics seen
+# through glass where the lights list names what to aim them at; elsewhere it
+# pays for connections that find little new.  Measured: next_week_final (0.7%
+# metal or glass) 1.65x the mixture's error; caustic, 0.3-0.6x (photons).
+# "mixture" is the books'.
 DEFAULT_SAMPLING = "mixture+sobol"
 SPECULAR_DEFAULT = "bdpt+sobol"
+PHOTONS_DEFAULT = "bdpt+photons"
 SPECULAR = ("metal", "dielectric")
 SPECULAR_SHARE = 0.02
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.
@@ -270,17 +275,26 @@ class RenderOptions:
 
 def default_sampling(scene):
     """The sampling a path-traced scene gets when none is asked for:
-    SPECULAR_DEFAULT when it has an emitter and metal or glass outside its lights
-    list make up at least SPECULAR_SHARE of its surfaces' area, else
-    DEFAULT_SAMPLING."""
+    bidirectional (SPECULAR_DEFAULT, or PHOTONS_DEFAULT where its caustic maps
+    serve: photons_serve) when it has an emitter and metal or glass make up at
+    least SPECULAR_SHARE of its surfaces' area, else DEFAULT_SAMPLING."""
     surfaces = [shape for shape in scene.objects if not shape.medium]
     if not any(shape.material.kind == "diffuse_light" for shape in surfaces):
         return DEFAULT_SAMPLING
-    listed = {id(light) for light in scene.lights}
     total = sum(shape.area for shape in surfaces)
-    specular = sum(shape.area for shape in surfaces
-                   if shape.material.kind in SPECULAR and id(shape) not in listed)
-    return SPECULAR_DEFAULT if specular >= SPECULAR_SHARE * total else DEFAULT_SAMPLING
+    specular = sum(shape.area for shape in surfaces if shape.material.kind in SPECULAR)
+    if specular < SPECULAR_SHARE * total:
+        return DEFAULT_SAMPLING
+    return PHOTONS_DEFAULT if photons_serve(scene) else SPECULAR_DEFAULT
+
+
+def photons_serve(scene):
+    """Do bdpt's caustic photon maps serve `scene`?  They start on its emitters,
+    are aimed at the lights list's objects that do not emit (attractors, such as a glass ball),
+    and do not scatter in media or move with time (path/integrators/photons.py)."""
+    return (any(shape.material.kind == "diffuse_light" for shape in scene.objects)
+            and any(light.material.kind != "diffuse_light" for light in scene.lights)
+            and not any(shape.medium or shape.moving for shape in scene.objects))
 
 
 @contextmanager

@@ -66,6 +66,15 @@ def test_a_mesh_scene_is_the_same_bits_as_a_local_render(client):
                 rt.render(scene, spp=40, **SMALL))
 
 
+def test_caustic_photon_maps_are_the_same_bits_as_a_local_render(client):
+    # Each worker traces the maps of the samples it renders itself, from the
+    # same keys: the same photons in the same order as here.
+    scene = rt.load_scene("caustic")
+    options = dict(SMALL, sampling="bdpt+photons")
+    assert_same(rt.render(scene, spp=40, client=client, **options),
+                rt.render(scene, spp=40, **options))
+
+
 @pytest.mark.parametrize("sampling", ["lightpath", "bdpt"])
 def test_light_carried_to_the_camera_is_the_same_bits_as_a_local_render(cornell_box, client,
                                                                        sampling):

@@ -165,14 +165,16 @@ def test_next_week_scenes_render_without_bad_samples(name):
 
 
 def test_the_default_sampling_follows_from_what_the_scene_holds():
-    # bdpt+sobol where emitters light metal or glass making up >= 2% of the
-    # surface area, and not in the lights list (measured: benchmarks/
-    # strategies.py and accuracy.py), mixture+sobol elsewhere.
+    # Bidirectional where emitters light metal or glass making up >= 2% of the
+    # surface area (measured: benchmarks/strategies.py and accuracy.py), with
+    # caustic photon maps where the lights list names something that does not
+    # emit to aim them at; mixture+sobol elsewhere.
     def used(scene, **kw):
         return rt.render(scene, spp=1, width=8, height=8, **kw).stats.sampling
 
-    assert used(rt.load_scene("cornell_glass")) == "bdpt+sobol"        # 14% metal, unlisted
-    assert used(rt.load_scene("caustic")) == "mixture+sobol"           # its glass is listed
+    assert used(rt.load_scene("cornell_glass")) == "bdpt+photons"      # 14% metal, a ball listed
+    assert used(rt.load_scene("caustic")) == "bdpt+photons"
+    assert used(rt.load_scene("mirror_light")) == "bdpt+sobol"         # only its light listed
     assert used(rt.load_scene("next_week_final")) == "mixture+sobol"   # 0.7%
     assert used(rt.load_scene("cornell_box")) == "mixture+sobol"
     assert used(rt.load_scene("weekend")) == "mixture+sobol"           # no emitter: the sky
@@ -183,8 +185,8 @@ def test_the_default_sampling_follows_from_what_the_scene_holds():
     ball = rt.sphere((150, 80, 100), 80, rt.metal((0.8, 0.8, 0.8), 0.0))      # 4.5%
     box.add(ball)
     assert used(box) == "bdpt+sobol"
-    box.lights.append(ball)                         # the mixture aims at it: its own way
-    assert used(box) == "mixture+sobol"
+    box.lights.append(ball)                          # now something to aim photons at
+    assert used(box) == "bdpt+photons"
 
 
 def test_one_side_of_the_image_keeps_the_cameras_aspect_ratio():

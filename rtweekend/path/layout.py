@@ -124,3 +124,6 @@ class Features(NamedTuple):
     textures: object = None  # textures.TextureArrays
     media: object = None     # int64 [K]: the constant media's objects
     motion: object = None    # 0 when something moves
+    # bdpt's caustic photon maps (integrators/photons.py): their settings, and
+    # the maps of the samples a kernel call renders (renderer.render_samples)
+    caustics: object = None

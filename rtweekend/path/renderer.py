@@ -21,13 +21,13 @@ from .. import checks, memory
 from ..denoise import denoise as denoise_image
 from ..errors import FieldError, SceneError, SceneWarning
 from ..kernel.rows import interleaved_rows, on_threads
-from ..options import RenderOptions, thread_count
+from ..options import RenderOptions, photons_serve, thread_count
 from ..result import RenderResult, RenderStats
 from ..scene.scene import Scene
 from . import film as films
 from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
-from .integrators import ESTIMATORS
+from .integrators import ESTIMATORS, photons
 from .layout import BG_COLOR, Features, PathParams, SceneArrays
 from .pack import dark_sides, pack_features, pack_scene, scene_bytes
 
@@ -61,7 +61,7 @@ def freeze(scene, options):
     arrays = pack_scene(scene, bvh=options.bvh)
     strategy = options.strategy
     next_event = strategy.next_event and len(arrays.emitters) > 0
-    if next_event:
+    if next_event or strategy.photons:
         # Emitters are reached by shadow rays: the mixture draws towards the
         # lights list's other objects only (attractors, e.g. a glass ball).
         arrays = arrays._replace(lights=np.setdiff1d(arrays.lights, arrays.emitters))
@@ -75,6 +75,8 @@ def freeze(scene, options):
                         clamp=options.clamp_value, pairs=SOBOL_PAIRS if strategy.sobol else 0)
     features = Features(strategy.roulette_depth if next_event else None,
                         *pack_features(scene, arrays))
+    if strategy.photons and photons_serve(scene):
+        features = features._replace(caustics=photons.settings(arrays))
     if strategy.estimator == "light":
         _check_light_tracing(options, arrays)
     return Frame(arrays, params, interleaved_rows(camera.height), features, strategy.estimator,
@@ -104,8 +106,12 @@ def render_samples(frame, film, s0, s1, rows=None):
     rows = frame.rows if rows is None else rows
     threads = numba.get_num_threads() if s1 > s0 else 1
     for a, b in _block_parts(s0, s1) if film.splat.size else [(s0, s1)]:
+        features = frame.features
+        if features.caustics is not None and b > a:
+            features = features._replace(caustics=photons.build(
+                features.caustics, frame.scene, frame.params, features.textures, a, b, threads))
         on_threads(lambda part: render_pass(film, frame.scene, frame.params, part, a, b,
-                                            *frame.features), rows, threads)
+                                            *features), rows, threads)
         if film.splat.size and not part_of_the_rows and b > a and b % BLOCK_SPP == 0:
             films.fold_splats(film)
 
@@ -148,8 +154,9 @@ def _check_memory(scene, options):
     width, height = options.image_size(camera)
     estimator = ESTIMATORS[options.strategy.estimator]
     scene_part = scene_bytes(scene)
+    maps = photons.map_bytes(BLOCK_SPP) if options.strategy.photons else 0
     memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features)
-                 + scene_part, width, height, scene=scene_part, objects=len(scene.objects),
+                 + scene_part + maps, width, height, scene=scene_part, objects=len(scene.objects),
                  origin=options.size_origin(scene))
 
 

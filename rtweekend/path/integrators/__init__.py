@@ -2,7 +2,8 @@
 image rows, over the same scene arrays, materials, lights, sampler, camera and
 film.
 
-    render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion)
+    render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion,
+                caustics)
 
 adds samples s0..s1-1 of the pixels of `rows` to the film, and SPLATS says
 whether its film needs the splat arrays (film.py): path.py adds each sample

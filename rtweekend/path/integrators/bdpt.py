@@ -42,7 +42,7 @@ from ..bvh import unoccluded
 from ..film import SEGMENTS
 from ..layout import DIFFUSE_LIGHT, NO_HIT
 from ..lights import background
-from . import mis
+from . import mis, photons
 from .subpaths import camera_subpath, light_subpath
 from .vertices import (BACK, BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, OBJ, P,
                        SURFACE, TYPE, WO, area_factor, back_density, col, connectible,
@@ -231,14 +231,19 @@ def first_seen(scene, cf, ci, n, escaped, d, beta):
 
 
 @jit_step
-def camera_strategies(scene, params, cf, ci, lf, li, nc, nl, textures, media, time, smp):
+def camera_strategies(scene, params, cf, ci, lf, li, nc, nl, textures, media, time, smp,
+                      caustics, z):
     """Every strategy with t >= 2: (radiance for the pixel, what its camera ray
-    saw emitted, rays traced, smp)."""
+    saw emitted, rays traced, smp).  With caustic maps, s = 0 leaves out the
+    paths they estimate at camera vertex z (photons.covered)."""
     radiance, seen, rays = ZERO, ZERO, 0
     has_lights = scene.light_f.shape[0] > 0
     for t in range(2, nc + 1):
         pt = t - 1
         if ci[pt, TYPE] == SURFACE and ci[pt, MKIND] == DIFFUSE_LIGHT:
+            if caustics is not None:
+                if photons.covered(scene, cf, ci, z, t):
+                    continue
             e, w = emitted(scene, params, cf, ci, t)
             radiance = add(radiance, scale(mul(col(cf, pt, BETA), e), w))
             if t == 2:
@@ -257,9 +262,11 @@ def camera_strategies(scene, params, cf, ci, lf, li, nc, nl, textures, media, ti
 
 
 @jit_step
-def render_row(y, film, scene, params, s0, s1, textures, media, motion, cf, ci, lf, li):
+def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics, cf, ci, lf,
+               li):
     """Samples s0..s1-1 of every pixel of row y: the camera's part to the pixel,
-    light tracing's splatted."""
+    light tracing's splatted; with caustic maps (photons.py), what they give
+    where the camera sees a diffuse surface through glass or in a mirror."""
     segments = 0
     width = params.width
     want = film.albedo.shape[0] > 0        # feature images: a run-time test, no variant
@@ -283,13 +290,19 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, cf, ci, 
                 albedo, normal, light = first_seen(scene, cf, ci, nc, escaped, d, beta)
                 films.add_features(film, y, x, albedo, normal)
                 films.add_emission(film, y, x, light)
+            z = -1
+            if caustics is not None:
+                z = photons.seen_through(ci, nc)
+                if z > 0:
+                    radiance = add(radiance, photons.caustic_light(caustics, s, cf, ci, z,
+                                                                   params.max_depth))
             nl = 0
             if has_lights:
                 nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)
                 segments += n
                 mis.accumulate(lf, li, 0, nl)
             light, seen, n, smp = camera_strategies(scene, params, cf, ci, lf, li, nc, nl,
-                                                    textures, media, time, smp)
+                                                    textures, media, time, smp, caustics, z)
             radiance, segments = add(radiance, light), segments + n
             for sl in range(2, min(nl, params.max_depth) + 1):
                 n, smp = to_camera(scene, params, film, cf, ci, lf, li, sl, y, media, time,
@@ -301,12 +314,12 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, cf, ci, 
 
 
 @jit_kernel
-def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion):
+def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion, caustics):
     """The samples s0..s1-1 of the pixels of `rows` (one thread's share of a
     pass: kernel/rows.py), with one pair of subpath arrays for all of them."""
     n = params.max_depth + 2
     cf, ci = np.zeros((n, NF)), np.zeros((n, NI), dtype=np.int64)
     lf, li = np.zeros((n, NF)), np.zeros((n, NI), dtype=np.int64)
     for k in range(rows.shape[0]):
-        render_row(rows[k], film, scene, params, s0, s1, textures, media, motion, cf, ci, lf,
-                   li)
+        render_row(rows[k], film, scene, params, s0, s1, textures, media, motion, caustics, cf,
+                   ci, lf, li)

@@ -264,7 +264,8 @@ def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
 
 
 @jit_kernel
-def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion):
+def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion,
+                caustics):
     """Add samples s0..s1-1 of every pixel of `rows` to the film: one thread's
     share of a pass (kernel/rows.py).  Each row is written by one thread only,
     and every sum is in sample order, so the film is the same whatever the
