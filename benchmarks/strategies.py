@@ -4,7 +4,8 @@ measurement behind the default.
     python benchmarks/strategies.py [--seconds 3] [--threads 2] [--width 100] [--quick]
 
 For each path-traced bundled scene (at --width pixels across, the height
-keeping its aspect) and each candidate (mixture+sobol, nee+sobol, bdpt+sobol):
+keeping its aspect) and each candidate (mixture+sobol, nee+sobol, bdpt+sobol,
+bdpt+photons):
 two renders of --seconds of rendering each (seeds 1 and 2; compiled and warmed
 up first), and their error without any reference: for two independent
 unbiased renders a and b of a pixel, E[(a - b)^2] = 2 Var, so
@@ -12,7 +13,9 @@ unbiased renders a and b of a pixel, E[(a - b)^2] = 2 Var, so
     RMSE = sqrt(mean over pixels and channels of (a - b)^2 / 2)
 
 is the root mean squared error of one render, the noise of the other included
-in no way.  Prints the ratio of each candidate's RMSE to the default's and
+in no way.  (bdpt+photons is consistent, not unbiased: this measures its
+noise, not its small bias, which accuracy.py measures against references.)
+Prints the ratio of each candidate's RMSE to the default's and
 which is lowest; for an unbiased estimator a ratio r means r^2 times the time
 to reach the same error.  Writes benchmark-results/strategies.json.
 """
@@ -29,7 +32,7 @@ from common import machine, parser, save_json  # noqa: E402
 import rtweekend as rt  # noqa: E402
 from rtweekend.options import DEFAULT_SAMPLING  # noqa: E402
 
-CANDIDATES = ("mixture+sobol", "nee+sobol", "bdpt+sobol")
+CANDIDATES = ("mixture+sobol", "nee+sobol", "bdpt+sobol", "bdpt+photons")
 
 
 def renders(scene, sampling, width, height, seconds, threads):

@@ -75,9 +75,9 @@ SAMPLINGS = {
 # finds the caustics and the light through glass or off mirrors that camera
 # paths find only by chance, and its caustic photon maps the caustics seen
 # through glass where the lights list names what to aim them at; elsewhere it
-# pays for connections that find little new.  Measured: next_week_final (0.7%
-# metal or glass) 1.65x the mixture's error; caustic, 0.3-0.6x (photons).
-# "mixture" is the books'.
+# pays for connections that find little new.  Measured (benchmarks/strategies.py):
+# next_week_final (0.7% metal or glass) 1.56x the mixture's error; caustic 0.56x
+# and cornell_glass 0.48x with photons.  "mixture" is the books'.
 DEFAULT_SAMPLING = "mixture+sobol"
 SPECULAR_DEFAULT = "bdpt+sobol"
 PHOTONS_DEFAULT = "bdpt+photons"

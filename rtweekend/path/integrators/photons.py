@@ -53,7 +53,7 @@ from .vertices import BETA, COLOR, DELTA, MKIND, NG, OBJ, P, SURFACE, TYPE, WO, 
 
 INF = math.inf
 PHOTONS = 1024          # light paths traced per map (per sample index)
-RADIUS = 0.005          # r0 as a fraction of the scene's bounding-box diagonal
+RADIUS = 0.015          # r0 as a fraction of the attractors' bounding-box diagonal
 ALPHA = 2.0 / 3.0       # Knaus and Zwicker's: the radius^2 shrinks as s^(ALPHA - 1)
 CELLS = 4096            # hash table size of a map's grid (a power of two)
 # A photon's row: where it landed, its flux (RGB), the unit direction it came
@@ -75,9 +75,14 @@ class Caustics(NamedTuple):
 
 
 def settings(arrays):
-    """Caustics with no map yet, r0 from the scene's size."""
-    lo, hi = _scene_bounds(arrays)
-    return empty(RADIUS * float(np.linalg.norm(hi - lo)))
+    """Caustics with no map yet, r0 from the size of the attractors (the lights
+    list, emitters left out: renderer.freeze), whose size is the caustics'
+    scale -- not the scene's, which a ground sphere of radius 1000 would make
+    blur every caustic."""
+    from ..bvh_build import object_bounds
+    boxes = object_bounds(arrays.obj_i[arrays.lights], arrays.obj_f[arrays.lights])
+    return empty(RADIUS * float(np.linalg.norm(boxes[:, 3:].max(axis=0) -
+                                               boxes[:, :3].min(axis=0))))
 
 
 def empty(r0):
@@ -85,16 +90,6 @@ def empty(r0):
     return Caustics(np.zeros((0, PF)), np.zeros((0, 2), dtype=np.int64),
                     np.zeros((0, CELLS + 1), dtype=np.int64), np.zeros(0, dtype=np.int64),
                     np.zeros(0), 0, r0)
-
-
-def _scene_bounds(arrays):
-    if arrays.bvh_box.shape[0] > 0:
-        return arrays.bvh_box[0, :3], arrays.bvh_box[0, 3:]
-    from ..bvh_build import object_bounds
-    boxes = object_bounds(arrays.obj_i, arrays.obj_f)
-    finite = np.isfinite(boxes).all(axis=1)
-    boxes = boxes[finite] if finite.any() else np.zeros((1, 6))
-    return boxes[:, :3].min(axis=0), boxes[:, 3:].max(axis=0)
 
 
 def radius(r0, s):
