@@ -36,3 +36,15 @@ def block_se(se, n):
     h, w = (se.shape[0] // n) * n, (se.shape[1] // n) * n
     return np.sqrt((se[:h, :w].astype(np.float64) ** 2).reshape(h // n, n, w // n, n, -1)
                    .sum(axis=(1, 3))) / (n * n)
+
+
+def block_z(a, a_se, b, b_se, n, quiet_equal=False):
+    """The differences of two images' n x n block means over their combined
+    standard errors, blocks with no noise on either side left out (with
+    quiet_equal, those must agree exactly: black walls, a light seen directly)."""
+    se = np.hypot(block_se(a_se, n), block_se(b_se, n))
+    d = blocks(a, n) - blocks(b, n)
+    keep = se > 0
+    if quiet_equal:
+        assert np.all(d[~keep] == 0)
+    return d[keep] / se[keep]

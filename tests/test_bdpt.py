@@ -13,19 +13,11 @@ from rtweekend.path.integrators import mis
 from rtweekend.path.integrators.vertices import DELTA, FWD, NF, NI, REV
 from rtweekend.path.renderer import Renderer
 from splits import assert_same_bits_for_threads_and_splits
-from stats import block_se, blocks
+from stats import block_z
+
 
 SMALL = dict(width=24, height=20, seed=3, sampling="bdpt")
 
-
-def _z(a, a_se, b, b_se, n):
-    """Block-mean differences over their standard errors (blocks with no
-    noise on either side, black walls of the sky scenes, left out)."""
-    se = np.hypot(block_se(a_se, n), block_se(b_se, n))
-    d = blocks(a, n) - blocks(b, n)
-    keep = se > 0
-    assert np.all(d[~keep] == 0)
-    return d[keep] / se[keep]
 
 
 @njit
@@ -146,7 +138,7 @@ def test_bdpt_renders_cornell_glass_as_mitsuba_does_mirror_glass_and_caustics_in
     result = rt.render(rt.load_scene("cornell_glass"), spp=128, width=150, height=150,
                        sampling="bdpt+sobol", seed=2, threads=2)
     assert result.stats.nan_dropped == 0
-    z = _z(result.image, result.stderr, reference, ref_se, 25)
+    z = block_z(result.image, result.stderr, reference, ref_se, 25, quiet_equal=True)
     assert z.size > 100                 # 36 blocks x 3 channels, but the black ones
     assert np.abs(z).max() < 5, f"worst block z = {np.abs(z).max():.2f}"
     assert abs(z.mean()) < 4 / math.sqrt(z.size)
@@ -156,7 +148,7 @@ def test_bdpt_renders_smoke_as_mitsuba_does(cornell_smoke_reference):
     reference, ref_se = cornell_smoke_reference
     result = rt.render(rt.load_scene("cornell_smoke"), spp=64, width=150, height=150,
                        sampling="bdpt", seed=2, threads=2)
-    z = _z(result.image, result.stderr, reference, ref_se, 15)
+    z = block_z(result.image, result.stderr, reference, ref_se, 15, quiet_equal=True)
     assert np.abs(z).max() < 5, f"worst block z = {np.abs(z).max():.2f}"
     assert abs(z.mean()) < 4 / math.sqrt(z.size)
 
@@ -172,7 +164,7 @@ def test_bdpt_and_the_path_tracer_agree(name):
     a = rt.render(scene, spp=64, sampling="bdpt", seed=4, **size)
     b = rt.render(scene, spp=128, sampling="nee", seed=5, **size)
     assert a.stats.nan_dropped == 0
-    z = _z(a.image, a.stderr, b.image, b.stderr, 4)
+    z = block_z(a.image, a.stderr, b.image, b.stderr, 4, quiet_equal=True)
     assert np.abs(z).max() < 5, f"worst block z = {np.abs(z).max():.2f}"
     assert abs(z.mean()) < 4 / math.sqrt(z.size)
 

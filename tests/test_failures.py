@@ -8,15 +8,10 @@ import pytest
 
 import rtweekend as rt
 from conftest import failure_reference
-from stats import block_se, blocks
+from stats import block_z
 
 FAILURES = ("caustic", "glass_lamp", "tiny_light", "mirror_light")
 
-
-def _z(a, a_se, b, b_se, n):
-    se = np.hypot(block_se(a_se, n), block_se(b_se, n))
-    keep = se > 0
-    return ((blocks(a, n) - blocks(b, n))[keep] / se[keep])
 
 
 @pytest.mark.parametrize("sampling", ["bdpt+sobol", "mixture+sobol"])
@@ -33,7 +28,7 @@ def test_failure_scenes_render_as_mitsuba_does(name, sampling):
     result = rt.render(rt.load_scene(name), spp=256, width=100, height=100, sampling=sampling,
                        seed=11, threads=2)
     assert result.stats.nan_dropped == 0
-    z = _z(result.image, result.stderr, reference, ref_se, 50)
+    z = block_z(result.image, result.stderr, reference, ref_se, 50)
     assert z.size == 12
     assert np.abs(z).max() < 5, f"worst quarter z = {np.abs(z).max():.2f}"
 

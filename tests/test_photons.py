@@ -12,7 +12,7 @@ import rtweekend as rt
 from rtweekend.path.integrators import photons
 from conftest import failure_reference
 from splits import assert_same_bits_for_threads_and_splits
-from stats import block_se, blocks
+from stats import block_z
 
 
 @njit
@@ -64,11 +64,6 @@ def test_the_radius_shrinks_as_knaus_and_zwicker_say():
     assert r[2] == pytest.approx(2.0 * 64 ** (-1 / 6), rel=1e-12)
 
 
-def _z(a, a_se, b, b_se, n):
-    se = np.hypot(block_se(a_se, n), block_se(b_se, n))
-    keep = se > 0
-    return ((blocks(a, n) - blocks(b, n))[keep] / se[keep])
-
 
 def test_the_caustic_seen_through_the_ball_converges_to_mitsubas():
     # The ball's image (rows 50-90): the floor seen through the glass, lit
@@ -79,11 +74,11 @@ def test_the_caustic_seen_through_the_ball_converges_to_mitsubas():
                        sampling="bdpt+photons", seed=11, threads=2)
     assert result.stats.nan_dropped == 0
     ball = (slice(50, 90), slice(30, 70))
-    z = _z(result.image[ball], result.stderr[ball], reference[ball], ref_se[ball], 10)
+    z = block_z(result.image[ball], result.stderr[ball], reference[ball], ref_se[ball], 10)
     assert z.size == 48
     assert np.abs(z).max() < 5, f"worst block z = {np.abs(z).max():.2f}"
     assert abs(z.mean()) < 4 / math.sqrt(z.size)
-    z = _z(result.image, result.stderr, reference, ref_se, 50)
+    z = block_z(result.image, result.stderr, reference, ref_se, 50)
     assert np.abs(z).max() < 5, f"worst quarter z = {np.abs(z).max():.2f}"
 
 
@@ -91,7 +86,7 @@ def test_cornell_glass_with_photons_renders_as_mitsuba_does(cornell_glass_refere
     reference, ref_se = cornell_glass_reference
     result = rt.render(rt.load_scene("cornell_glass"), spp=128, width=150, height=150,
                        sampling="bdpt+photons", seed=2, threads=2)
-    z = _z(result.image, result.stderr, reference, ref_se, 25)
+    z = block_z(result.image, result.stderr, reference, ref_se, 25)
     assert np.abs(z).max() < 5, f"worst block z = {np.abs(z).max():.2f}"
     assert abs(z.mean()) < 4 / math.sqrt(z.size)
 

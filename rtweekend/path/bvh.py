@@ -131,17 +131,29 @@ def stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, first_hit):
         else:
             i = bvh_node[i, 2]
             continue
-        for j in range(first, first + count):
-            # An object index is >= 0: saying so spares every array access the
-            # test for a negative index (Python's a[-1]).
-            k = bvh_prims[j] & NON_NEGATIVE
-            t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time)
-            if t < t_max:
-                t_max = t
-                best = k
-                if first_hit:
-                    return best, t_max
+        best, t_max = nearest_in_leaf(scene, bvh_prims, first, count, o, d, t_max, best,
+                                      from_obj, from_inside, time, first_hit)
+        if first_hit and best != NO_HIT:
+            return best, t_max
         i = after
+    return best, t_max
+
+
+@jit_step
+def nearest_in_leaf(scene, bvh_prims, first, count, o, d, t_max, best, from_obj, from_inside,
+                    time, first_hit):
+    """(best, t_max) after testing the objects bvh_prims[first:first+count]:
+    the nearest hit before t_max, or with first_hit the first one met."""
+    for j in range(first, first + count):
+        # An object index is >= 0: saying so spares every array access the
+        # test for a negative index (Python's a[-1]).
+        k = bvh_prims[j] & NON_NEGATIVE
+        t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time)
+        if t < t_max:
+            t_max = t
+            best = k
+            if first_hit:
+                break
     return best, t_max
 
 
@@ -181,14 +193,8 @@ def ordered_nearest(scene, o, d, t_max, from_obj, from_inside, time):
         else:
             first, count = bvh_node[i, 0], bvh_node[i, 1]
         if count > 0:
-            for j in range(first, first + count):
-                # An object index is >= 0: saying so spares every array access the
-                # test for a negative index (Python's a[-1]).
-                k = bvh_prims[j] & NON_NEGATIVE
-                t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time)
-                if t < t_max:
-                    t_max = t
-                    best = k
+            best, t_max = nearest_in_leaf(scene, bvh_prims, first, count, o, d, t_max, best,
+                                          from_obj, from_inside, time, False)
             if no_bvh:
                 break
             i = -1

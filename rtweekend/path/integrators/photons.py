@@ -47,6 +47,7 @@ from ...kernel.stack import stack_array
 from ...kernel.vec3 import dot, neg
 from .. import lights, materials, pdf, shapes
 from ..bvh import closest_hit
+from ..bvh_build import object_bounds
 from ..layout import LAMBERTIAN, NO_HIT
 from ..surface import surface_at
 from .vertices import BETA, COLOR, DELTA, MKIND, NG, OBJ, P, SURFACE, TYPE, WO, col
@@ -79,7 +80,6 @@ def settings(arrays):
     list, emitters left out: renderer.freeze), whose size is the caustics'
     scale -- not the scene's, which a ground sphere of radius 1000 would make
     blur every caustic."""
-    from ..bvh_build import object_bounds
     boxes = object_bounds(arrays.obj_i[arrays.lights], arrays.obj_f[arrays.lights])
     return empty(RADIUS * float(np.linalg.norm(boxes[:, 3:].max(axis=0) -
                                                boxes[:, :3].min(axis=0))))
@@ -104,10 +104,13 @@ def build(caustics, scene, params, textures, s0, s1, threads):
     raw_i = np.full((maps * PHOTONS, 2), -1, dtype=np.int64)
     on_threads(lambda part: trace_maps(scene, params, s0, part, raw_f, raw_i, textures),
                np.arange(maps * PHOTONS), threads)
-    split = np.arange(1, maps) * PHOTONS
-    stored = [i[:, 0] >= 0 for i in np.split(raw_i, split)]
-    return grid(caustics, [f[k] for f, k in zip(np.split(raw_f, split), stored)],
-                [i[k] for i, k in zip(np.split(raw_i, split), stored)], s0)
+    maps_f, maps_i = [], []
+    for m in range(maps):
+        rows = slice(m * PHOTONS, (m + 1) * PHOTONS)
+        stored = raw_i[rows, 0] >= 0
+        maps_f.append(raw_f[rows][stored])
+        maps_i.append(raw_i[rows][stored])
+    return grid(caustics, maps_f, maps_i, s0)
 
 
 def grid(caustics, maps_f, maps_i, s0):
