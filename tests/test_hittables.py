@@ -322,14 +322,17 @@ def test_the_compiled_bvh_builder_builds_the_numpy_reference_tree():
     assert same(arrays, np.arange(0, len(arrays.obj_i), 3))
 
 
-def test_the_ordered_walk_finds_what_the_stackless_walk_finds():
-    # Scenes with meshes walk the BVH nearer child first (bvh.ordered_nearest),
-    # the others by its miss links: on the same tree, the same hits, bit for bit.
+def test_the_wide_walk_finds_what_the_stackless_walk_finds():
+    # Scenes with meshes walk a 4-wide BVH nearer children first (wide_bvh.py),
+    # the others the binary one by its miss links: the same hits, bit for bit.
     from rtweekend.path.layout import Triangles
+    from rtweekend.path.wide_bvh import wide_tables
     rng = np.random.default_rng(8)
     scene = _random_spheres_and_boxes(rng, 400, 30, 20)
     stackless = pack_scene(scene, bvh=True)
-    ordered = stackless._replace(tris=Triangles(np.zeros((0, 6))))
+    tree = stackless.bvh_box, stackless.bvh_node, stackless.bvh_prims
+    ordered = stackless._replace(tris=Triangles(
+        np.zeros((0, 6)), *wide_tables(stackless.obj_i, stackless.obj_f, *tree)))
     o = rng.uniform(-30, 30, (20_000, 3))
     d = rng.normal(size=(20_000, 3))
     d /= np.linalg.norm(d, axis=1, keepdims=True)

@@ -4,7 +4,14 @@ Tuples live in registers inside Numba kernels, so none of these allocate.
 """
 import math
 
-from .jit import jit_step
+from .jit import jit_step, like
+
+
+@jit_step
+def reciprocal(x):
+    """1/x, with 1/0 = inf of the same sign, under any error model (in x's
+    precision): a ray's inverse direction, for slab tests."""
+    return like(x, 1.0) / x if x != 0.0 else math.copysign(like(x, math.inf), x)
 
 
 @jit_step

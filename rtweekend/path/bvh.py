@@ -2,8 +2,9 @@
 
 Nodes are stored in depth-first order, so a node's left child is the next
 node, and each node keeps a "miss" link: the node to visit when the ray misses
-its box (the next node after its subtree).  unoccluded, which may stop at any
-object met, walks it in a single loop with no stack:
+its box (the next node after its subtree).  In a scene without meshes both
+searches (closest_hit, and unoccluded, which may stop at any object met) walk
+it in a single loop with no stack:
 
     i = 0
     while i < n_nodes:
@@ -17,18 +18,17 @@ bvh_node[i] = (first, count, miss): a leaf holds objects bvh_prims[first:first+c
               one is i + 1).  Without a hierarchy (no nodes), bvh_prims lists every
               object once.
 The split is the binned surface-area heuristic (pbrt's BVHAggregate, Wald 2007).
-closest_hit walks it so too in scenes without meshes; in scenes with meshes it
-visits the nearer child first and keeps the other on a small stack
-(kernel/stack.py), so that boxes beyond a hit already found are never opened.
-For small scenes it tests every object.
+A scene with meshes collapses the tree into 4-wide nodes and walks those,
+nearer children first (wide_bvh.py).  For small scenes the walk tests every
+object.
 """
 import math
 
 import numpy as np
 
 from ..kernel.jit import jit_step, like
-from ..kernel.stack import stack_array
-from . import shapes
+from ..kernel.vec3 import reciprocal
+from . import shapes, wide_bvh
 from .bvh_build import build_bvh, object_bounds  # noqa: F401  (the builder)
 from .layout import NO_HIT
 
@@ -37,9 +37,6 @@ NON_NEGATIVE = 0x7FFFFFFFFFFFFFFF
 # From this many primitives on, the BVH beats testing every object (whose loop
 # Numba compiles tightly): measured per scene in benchmarks/results/measurements.md.
 BVH_MIN_OBJECTS = 10
-# Nodes a walk may keep to visit later: at most one per level, and bvh_build
-# keeps trees shallower than this.
-STACK = 64
 
 
 def empty_bvh(n_objects, ids=None):
@@ -48,12 +45,6 @@ def empty_bvh(n_objects, ids=None):
     return (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64),
             np.arange(n_objects, dtype=np.int64) if ids is None
             else np.asarray(ids, dtype=np.int64))
-
-
-@jit_step
-def reciprocal(x):
-    """1/x, with 1/0 = inf of the same sign, under any error model (in x's precision)."""
-    return like(x, 1.0) / x if x != 0.0 else math.copysign(like(x, INF), x)
 
 
 @jit_step
@@ -86,21 +77,21 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
     ray leaving object from_obj (NO_HIT: none; from_inside: into its ball), at
     `time` on the shutter (None: nothing moves).
 
-    A scene with meshes walks its BVH nearer child first (ordered_nearest):
-    for a mesh, 5x the camera rays per second of the stackless walk; the
-    others keep that walk (stackless_walk): measured beside each other,
-    the ordered walk made weekend 0.94x as fast and next_week_final 1.13x.
-    Which walk runs is decided when compiling (scene.tris is None or not),
-    and only that one is compiled.
+    A scene with meshes walks its 4-wide BVH nearer children first
+    (wide_bvh.py); the others keep the stackless walk (stackless_walk),
+    which for them is as fast (a nearer-first walk of the binary tree made
+    weekend 0.94x as fast and next_week_final 1.13x).  Which walk runs is
+    decided when compiling (scene.tris is None or not), and only that one is
+    compiled.
     """
-    return _nearest(scene, scene.tris, o, d, t_max, from_obj, from_inside, time)
+    return _walk(scene, scene.tris, o, d, t_max, from_obj, from_inside, time, False)
 
 
 @jit_step
-def _nearest(scene, tris, o, d, t_max, from_obj, from_inside, time):
+def _walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
     if tris is None:
-        return stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, False)
-    return ordered_nearest(scene, o, d, t_max, from_obj, from_inside, time)
+        return stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, first_hit)
+    return wide_bvh.walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit)
 
 
 @jit_step
@@ -158,66 +149,10 @@ def nearest_in_leaf(scene, bvh_prims, first, count, o, d, t_max, best, from_obj,
 
 
 @jit_step
-def ordered_nearest(scene, o, d, t_max, from_obj, from_inside, time):
-    """closest_hit for a scene with meshes.  With an empty BVH every object is
-    tested.  Otherwise the walk goes down
-    to the nearer child first and keeps the farther one, with where the ray
-    enters it, on a stack: once a hit is found, a kept node the ray enters
-    only beyond it is skipped unopened.  (Which hit is nearest does not
-    depend on the order objects are tested in, only how many are.)
-    """
-    bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
-    best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrators/path.py)
-    no_bvh = bvh_node.shape[0] == 0
-    inv_d = d                   # only the box tests of a hierarchy need 1 / d
-    if not no_bvh:
-        inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
-    nodes = stack_array(STACK, np.int64)
-    entries = stack_array(STACK, np.float64)
-    top = 0
-    i = 0
-    if not no_bvh and box_near(bvh_box, 0, o, inv_d, t_max) == INF:
-        i = -1
-    # One loop for both cases, so shapes.distance is inlined at one call site
-    # only (each inlined copy costs compile time): no BVH is a single leaf.
-    while True:
-        if i < 0:                           # the nearest kept node still worth opening
-            if top == 0:
-                break
-            top -= 1
-            if entries[top] < t_max:
-                i = nodes[top]
-            continue
-        if no_bvh:
-            first, count = 0, bvh_prims.shape[0]
-        else:
-            first, count = bvh_node[i, 0], bvh_node[i, 1]
-        if count > 0:
-            best, t_max = nearest_in_leaf(scene, bvh_prims, first, count, o, d, t_max, best,
-                                          from_obj, from_inside, time, False)
-            if no_bvh:
-                break
-            i = -1
-            continue
-        # An inner node: its left child is the next node, its right one `first`.
-        a, b = i + 1, first
-        ta = box_near(bvh_box, a, o, inv_d, t_max)
-        tb = box_near(bvh_box, b, o, inv_d, t_max)
-        if tb < ta:
-            a, b, ta, tb = b, a, tb, ta
-        i = a if ta < INF else -1
-        if tb < INF:
-            nodes[top] = b
-            entries[top] = tb
-            top += 1
-    return best, t_max
-
-
-@jit_step
 def unoccluded(scene, o, d, t_max, from_obj, from_inside, time):
     """Is the segment o + t d, 0 < t < t_max, clear of every object?  (The
     visibility of a connection between two points; what a ray leaving object
-    from_obj may meet, as for closest_hit.)  The stackless walk, stopped at the
-    first object met: any one blocks the segment."""
-    k, _ = stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, True)
+    from_obj may meet, as for closest_hit.)  closest_hit's walk, stopped at
+    the first object met: any one blocks the segment."""
+    k, _ = _walk(scene, scene.tris, o, d, t_max, from_obj, from_inside, time, True)
     return k == NO_HIT

@@ -95,8 +95,13 @@ class SceneArrays(NamedTuple):
 
 class Triangles(NamedTuple):
     """What a mesh's triangles have beyond their rows of obj_f, by the row's
-    INDEX (shapes/triangle.py)."""
+    INDEX (shapes/triangle.py), and the scene's 4-wide BVH (wide_bvh.py),
+    which a scene with meshes walks instead of the binary one."""
     uvs: np.ndarray        # float64 [T, 6]: (u, v) at P0, P1, P2; [0, 6]: none
+    wide_box: np.ndarray   # float64 [W, 6, 4]: each node's children's boxes
+    wide_child: np.ndarray  # int64 [W, 4]: a wide node, or a leaf (first, count)
+    leaf_prim: np.ndarray  # int64 [P]: the leaves' objects (-1 - k: not a triangle)
+    leaf_tri: np.ndarray   # float64 [P, 9]: their triangles' vertices, in leaf order
 
 
 class PathParams(NamedTuple):

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import SceneError
 from ..scene.fields import SKY
-from . import bvh as hierarchy
+from . import bvh as hierarchy, wide_bvh
 from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS,
                      MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_MAT, PRIMITIVE_KINDS, RECT,
                      SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles)
@@ -154,9 +154,12 @@ def pack_scene(scene, bvh=None):
         tree = hierarchy.empty_bvh(len(obj_i), ids)
     emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
     mat_f = mat_f.reshape(-1, MAT_FLOATS)
+    mesh_tables = tris.arrays(obj_i, obj_f, tree)
+    if mesh_tables is not None:     # walked 4-wide: the binary nodes are not kept
+        tree = (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), tree[2])
     return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
                        *pack_lights(obj_i, obj_f, mat_i, mat_f), bg_kind, bg, *tree,
-                       tris.arrays())
+                       mesh_tables)
 
 
 class TriangleTables:
@@ -183,12 +186,13 @@ class TriangleTables:
         self.count += len(faces)
         return rows
 
-    def arrays(self):
-        """layout.Triangles, or None when the scene has no mesh."""
+    def arrays(self, obj_i, obj_f, tree):
+        """layout.Triangles, with the 4-wide form of the BVH `tree` (bvh_box,
+        bvh_node, bvh_prims), or None when the scene has no mesh."""
         if self.count == 0:
             return None
         uvs = np.concatenate(self.uvs) if self.any_uvs else np.zeros((0, 6))
-        return Triangles(uvs)
+        return Triangles(uvs, *wide_bvh.wide_tables(obj_i, obj_f, *tree))
 
 
 def dark_sides(arrays):

@@ -76,12 +76,11 @@ def _axis(v, i):
 
 
 @jit_step
-def hit(obj_f, k, o, d, t_max):
-    """(t, b0, b1, b2): the watertight test's distance in (0, t_max) and the
-    barycentric weights of P0, P1, P2 there; t = inf on a miss."""
-    miss = (like(t_max, INF), 0.0, 0.0, 0.0)
-    # The ray's frame: z along its largest component, x and y the next two
-    # (swapped if z points backwards, which keeps the winding).
+def ray_frame(d):
+    """(kx, ky, kz, sx, sy, sz): the watertight test's frame for direction d,
+    the same for every triangle a ray meets (a BVH walk makes it once).  z is
+    along d's largest component, x and y the next two (swapped if z points
+    backwards, which keeps the winding); s shears d onto +z."""
     ad = (abs(d[0]), abs(d[1]), abs(d[2]))
     kz = 0 if ad[0] >= ad[1] and ad[0] >= ad[2] else (1 if ad[1] >= ad[2] else 2)
     kx = (kz + 1) % 3
@@ -89,12 +88,25 @@ def hit(obj_f, k, o, d, t_max):
     dz = _axis(d, kz)
     if dz < 0.0:
         kx, ky = ky, kx
-    sx = _axis(d, kx) / dz
-    sy = _axis(d, ky) / dz
-    sz = 1.0 / dz
-    a = sub(_vertex(obj_f, k, P0), o)
-    b = sub(_vertex(obj_f, k, P1), o)
-    c = sub(_vertex(obj_f, k, P2), o)
+    return kx, ky, kz, _axis(d, kx) / dz, _axis(d, ky) / dz, 1.0 / dz
+
+
+@jit_step
+def hit(obj_f, k, o, d, t_max):
+    """(t, b0, b1, b2): the watertight test's distance in (0, t_max) and the
+    barycentric weights of P0, P1, P2 there; t = inf on a miss."""
+    return hit_in_frame(obj_f, k, o, ray_frame(d), t_max)
+
+
+@jit_step
+def hit_in_frame(rows, k, o, frame, t_max):
+    """hit, for the triangle whose vertices are rows[k, 0:9] (obj_f's row, or
+    a copy of it), with the ray's frame already made (ray_frame)."""
+    miss = (like(t_max, INF), 0.0, 0.0, 0.0)
+    kx, ky, kz, sx, sy, sz = frame
+    a = sub(_vertex(rows, k, P0), o)
+    b = sub(_vertex(rows, k, P1), o)
+    c = sub(_vertex(rows, k, P2), o)
     ax = _axis(a, kx) - sx * _axis(a, kz)
     ay = _axis(a, ky) - sy * _axis(a, kz)
     bx = _axis(b, kx) - sx * _axis(b, kz)

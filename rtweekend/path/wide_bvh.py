@@ -1,0 +1,209 @@
+"""The BVH of a scene with meshes: four children to a node, and the leaves'
+triangles copied out in the order the walk reads them.
+
+A binary BVH over a million triangles is ~40 levels of nodes, each one a
+fetch that depends on the last; most of a ray's time goes to waiting for them.
+Collapsing the tree (bvh_build.py's) into 4-wide nodes -- each node keeps its
+children's four boxes side by side, so the four slab tests run as one vector
+operation -- halves the levels (Wald, Benthin and Boulos 2008; Embree's BVH4).
+The triangles' vertices, copied in leaf order into leaf_tri, sit next to each
+other instead of one 160-byte obj_f row apart.
+
+Collapse: a wide node starts with one binary node and opens, while it has
+fewer than four children, its child of largest surface area that is not a
+leaf (the SAH's measure of how often a ray enters it).  Nodes are numbered
+depth first.
+
+    wide_box[w, r, c]  row r (min x, y, z, max x, y, z) of child c's box;
+                       an unused child has the empty box (min inf, max -inf)
+    wide_child[w, c]   >= 0: the wide node it is; < 0: a leaf, -1 - (first << 32 | count)
+    leaf_prim[j]       the object bvh_prims[j] is: k for a triangle, -1 - k for another kind
+    leaf_tri[j]        a triangle's P0, P1, P2 (shapes/triangle.py's columns 0:9)
+
+A scene without a hierarchy (bvh=False, or few objects) gets one node whose
+one child, with an infinite box, is a leaf of every object.
+
+Which hit is nearest depends neither on the tree nor on the order of the
+walk (tests/test_hittables.py: the same objects and distances, bit for bit,
+as the binary tree's walk), and a triangle's copied vertices give its test
+the same bits as its obj_f row.
+"""
+import math
+
+import numpy as np
+from numba import njit
+
+from ..kernel.jit import jit_step, like
+from ..kernel.stack import stack_array
+from ..kernel.vec3 import reciprocal
+from . import shapes
+from .bvh_build import MEDIAN_FROM_DEPTH
+from .layout import NO_HIT, OBJ_KIND, TRIANGLE
+from .shapes import triangle
+
+INF = math.inf
+WIDTH = 4
+NON_NEGATIVE = 0x7FFFFFFFFFFFFFFF
+COUNT_BITS = 32
+COUNT_MASK = (1 << COUNT_BITS) - 1
+# The walk keeps at most WIDTH - 1 nodes per level; bvh_build's trees are no
+# deeper than MEDIAN_FROM_DEPTH + 31 levels, and collapsing never deepens one.
+MERGE = 8
+STACK = (WIDTH - 1) * (MEDIAN_FROM_DEPTH + 32)
+
+
+def wide_tables(obj_i, obj_f, bvh_box, bvh_node, bvh_prims):
+    """(wide_box, wide_child, leaf_prim, leaf_tri) for the binary tree
+    (bvh_box, bvh_node, bvh_prims); with no tree, one leaf of bvh_prims."""
+    if bvh_node.shape[0] == 0:
+        wide_box = np.empty((1, 6, WIDTH))
+        wide_box[0, :3], wide_box[0, 3:] = np.inf, -np.inf      # empty boxes but
+        wide_box[0, :3, 0], wide_box[0, 3:, 0] = -np.inf, np.inf  # one: everything
+        wide_child = np.zeros((1, WIDTH), dtype=np.int64)
+        wide_child[0, 0] = -1 - len(bvh_prims)      # first 0, count: all
+    else:
+        wide_box, wide_child = _collapse(bvh_box, bvh_node, MERGE)
+    kind = obj_i[bvh_prims, OBJ_KIND]
+    tri = kind == TRIANGLE
+    leaf_prim = np.where(tri, bvh_prims, -1 - bvh_prims).astype(np.int64)
+    leaf_tri = np.full((len(bvh_prims), 9), np.nan)
+    leaf_tri[tri] = obj_f[bvh_prims[tri], triangle.P0:triangle.P2 + 3]
+    return wide_box, wide_child, leaf_prim, leaf_tri
+
+
+@njit(cache=True)
+def _area(box, i):
+    ex, ey, ez = box[i, 3] - box[i, 0], box[i, 4] - box[i, 1], box[i, 5] - box[i, 2]
+    return ex * ey + ey * ez + ez * ex
+
+
+@njit(cache=True)
+def _collapse(box, node, merge):
+    n = node.shape[0]
+    # each binary node's objects: bvh_prims[first[i]:first[i] + size[i]]
+    first = node[:, 0].copy()
+    size = node[:, 1].copy()
+    for i in range(n - 1, -1, -1):
+        if node[i, 1] == 0:
+            first[i] = first[i + 1]
+            size[i] = size[i + 1] + size[node[i, 0]]
+    leaf = (node[:, 1] > 0) | (size <= merge)
+    wide_box = np.empty((n, 6, WIDTH))
+    wide_box[:, :3, :] = np.inf
+    wide_box[:, 3:, :] = -np.inf
+    wide_child = np.zeros((n, WIDTH), dtype=np.int64)
+    members = np.empty(WIDTH, dtype=np.int64)
+    # Depth first: (binary node, the wide node and slot waiting for its number).
+    stack = np.empty((n + 1, 3), dtype=np.int64)
+    stack[0] = (0, -1, 0)
+    top, count = 1, 0
+    while top > 0:
+        top -= 1
+        b, parent, slot = stack[top]
+        w = count
+        count += 1
+        if parent >= 0:
+            wide_child[parent, slot] = w
+        members[0] = b
+        m = 1
+        while m < WIDTH:
+            widest, best = -1, -1.0
+            for s in range(m):
+                if not leaf[members[s]] and _area(box, members[s]) > best:
+                    widest, best = s, _area(box, members[s])
+            if widest < 0:
+                break
+            # its children take its place, in order (left, right)
+            inner = members[widest]
+            for s in range(m, widest + 1, -1):
+                members[s] = members[s - 1]
+            members[widest], members[widest + 1] = inner + 1, node[inner, 0]
+            m += 1
+        for s in range(m - 1, -1, -1):            # first child numbered next
+            c = members[s]
+            for r in range(6):
+                wide_box[w, r, s] = box[c, r]
+            if leaf[c]:
+                wide_child[w, s] = -1 - ((first[c] << COUNT_BITS) | size[c])
+            else:
+                stack[top] = (c, w, s)
+                top += 1
+    return wide_box[:count].copy(), wide_child[:count].copy()
+
+
+@jit_step
+def walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
+    """(object, t) of the nearest hit before t_max, or with first_hit of the
+    first one met (a segment is blocked by any), or (NO_HIT, t_max): the walk
+    goes to the nearest child whose box the ray enters and keeps the others,
+    with where the ray enters them, on a stack; one entered only beyond a hit
+    already found is never opened."""
+    wide_box, wide_child = tris.wide_box, tris.wide_child
+    leaf_prim, leaf_tri = tris.leaf_prim, tris.leaf_tri
+    best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrators/path.py)
+    inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
+    frame = triangle.ray_frame(d)       # the triangle test's, made once per ray
+    # The row of each axis's near plane: min where the ray goes up that axis.
+    nx = 0 if inv_d[0] >= 0.0 else 3
+    ny = 1 if inv_d[1] >= 0.0 else 4
+    nz = 2 if inv_d[2] >= 0.0 else 5
+    fx, fy, fz = 3 - nx, 5 - ny, 7 - nz    # and of its far plane
+    nodes = stack_array(STACK, np.int64)
+    entries = stack_array(STACK, np.float64)
+    near = stack_array(WIDTH, np.float64)
+    order_t = stack_array(WIDTH, np.float64)
+    order_c = stack_array(WIDTH, np.int64)
+    zero = like(t_max, 0.0)
+    top = 0
+    node = np.int64(0)
+    while True:
+        if node >= 0:
+            # The four slab tests, side by side (one vector operation).
+            for c in range(WIDTH):
+                t0 = max(max((wide_box[node, nx, c] - o[0]) * inv_d[0],
+                             (wide_box[node, ny, c] - o[1]) * inv_d[1]),
+                         max((wide_box[node, nz, c] - o[2]) * inv_d[2], zero))
+                t1 = min(min((wide_box[node, fx, c] - o[0]) * inv_d[0],
+                             (wide_box[node, fy, c] - o[1]) * inv_d[1]),
+                         (wide_box[node, fz, c] - o[2]) * inv_d[2])
+                near[c] = t0 if t0 <= t1 and t0 < t_max else INF
+            # The entered children, nearest first (insertion sort of <= 4).
+            m = 0
+            for c in range(WIDTH):
+                t = near[c]
+                if t < INF:
+                    j = m
+                    while j > 0 and order_t[j - 1] > t:
+                        order_t[j], order_c[j] = order_t[j - 1], order_c[j - 1]
+                        j -= 1
+                    order_t[j], order_c[j] = t, wide_child[node, c]
+                    m += 1
+            for j in range(m - 1, 0, -1):          # the farthest below
+                nodes[top], entries[top] = order_c[j], order_t[j]
+                top += 1
+            if m > 0:
+                node = order_c[0]
+                continue
+        else:
+            leaf = -1 - node
+            first = leaf >> COUNT_BITS
+            for j in range(first, first + (leaf & COUNT_MASK)):
+                k = leaf_prim[j]
+                if k >= 0:
+                    t = like(t_max, INF) if k == from_obj else triangle.hit_in_frame(
+                        leaf_tri, j, o, frame, t_max)[0]
+                else:
+                    k = (-1 - k) & NON_NEGATIVE
+                    t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time)
+                if t < t_max:
+                    t_max, best = t, k
+                    if first_hit:
+                        return best, t_max
+        # The nearest kept node still worth opening, if any.
+        while top > 0:
+            top -= 1
+            if entries[top] < t_max:
+                node = nodes[top]
+                break
+        else:
+            return best, t_max
