@@ -216,12 +216,14 @@ def _shape(s):
         d = {"type": "rectangle" if s.kind != "box" else "cube",
              "to_world": mi.ScalarTransform4f(M.tolist())}
     elif s.kind == "mesh":
-        # Flat triangles, as rtweekend shades them, from a PLY file Mitsuba reads
-        # (its to_world: the same rotate_y and translate; the scale is in the
-        # vertices).  flip_face reverses the winding, as rtweekend packs it.
-        vertices, faces, _ = s.geometry
-        d = {"type": "ply", "filename": _ply(vertices, faces[:, ::-1] if s.flipped else faces),
-             "face_normals": True, "to_world": mi.ScalarTransform4f(_placement(s).tolist())}
+        # The triangles from a PLY file Mitsuba reads (its to_world: the same
+        # rotate_y and translate; the scale is in the vertices), flat or with the
+        # vertex normals rtweekend shades with.  flip_face reverses the winding,
+        # as rtweekend packs it.
+        vertices, faces, _, normals = s.geometry
+        d = {"type": "ply", "face_normals": normals is None,
+             "filename": _ply(vertices, faces[:, ::-1] if s.flipped else faces, normals),
+             "to_world": mi.ScalarTransform4f(_placement(s).tolist())}
     else:
         raise NotImplementedError(f"shape {s.kind!r}")
     if s.flipped and s.kind != "mesh":
@@ -236,17 +238,22 @@ def _shape(s):
 _PLY_FOLDER = None
 
 
-def _ply(vertices, faces):
-    """A binary PLY file of the triangles (for Mitsuba's ply shape); its path."""
+def _ply(vertices, faces, normals=None):
+    """A binary PLY file of the triangles (for Mitsuba's ply shape), with the
+    vertex normals if given; its path."""
     import tempfile
     global _PLY_FOLDER
     if _PLY_FOLDER is None:                 # removed when the process ends
         _PLY_FOLDER = tempfile.TemporaryDirectory(prefix="mitsuba_peer_")
     path = Path(_PLY_FOLDER.name) / f"mesh_{len(list(Path(_PLY_FOLDER.name).iterdir()))}.ply"
+    columns = "xyz" if normals is None else ("x", "y", "z", "nx", "ny", "nz")
     header = ("ply\nformat binary_little_endian 1.0\n"
-              f"element vertex {len(vertices)}\nproperty float x\nproperty float y\n"
-              f"property float z\nelement face {len(faces)}\n"
+              f"element vertex {len(vertices)}\n" +
+              "".join(f"property float {c}\n" for c in columns) +
+              f"element face {len(faces)}\n"
               "property list uchar int vertex_indices\nend_header\n")
+    if normals is not None:
+        vertices = np.concatenate([vertices, normals], axis=1)
     face_rows = np.zeros(len(faces), dtype=[("n", "u1"), ("v", "<i4", 3)])
     face_rows["n"], face_rows["v"] = 3, faces
     with open(path, "wb") as f:

@@ -326,13 +326,15 @@ def test_the_wide_walk_finds_what_the_stackless_walk_finds():
     # Scenes with meshes walk a 4-wide BVH nearer children first (wide_bvh.py),
     # the others the binary one by its miss links: the same hits, bit for bit.
     from rtweekend.path.layout import Triangles
+    from rtweekend.path import mesh_light
     from rtweekend.path.wide_bvh import wide_tables
     rng = np.random.default_rng(8)
     scene = _random_spheres_and_boxes(rng, 400, 30, 20)
     stackless = pack_scene(scene, bvh=True)
     tree = stackless.bvh_box, stackless.bvh_node, stackless.bvh_prims
     ordered = stackless._replace(tris=Triangles(
-        np.zeros((0, 6)), *wide_tables(stackless.obj_i, stackless.obj_f, *tree)))
+        np.zeros((0, 6)), np.zeros((0, 9)), *mesh_light.pack(stackless.obj_f, []),
+        *wide_tables(stackless.obj_i, stackless.obj_f, *tree)))
     o = rng.uniform(-30, 30, (20_000, 3))
     d = rng.normal(size=(20_000, 3))
     d /= np.linalg.norm(d, axis=1, keepdims=True)

@@ -29,7 +29,7 @@ def _unit(v):
 
 
 def _bsdf(kind, n, param=0.0, front=True):
-    return Bsdf(np.int64(kind), ALBEDO, float(param), _unit(n), front)
+    return Bsdf(np.int64(kind), ALBEDO, float(param), _unit(n), front, _unit(n))
 
 
 def _frame(n):

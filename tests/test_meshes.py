@@ -363,14 +363,6 @@ def test_bad_mesh_arrays_name_what_is_wrong():
         assert message in str(e.value), str(e.value)
 
 
-def test_a_mesh_in_the_lights_list_is_refused():
-    scene = rt.Scene()
-    m = rt.mesh(box_mesh((0, 0, 0), (1, 1, 1)), rt.diffuse_light((1, 1, 1)))
-    scene.add(m, light=True)
-    with pytest.raises(rt.SceneError, match="a mesh cannot be in the lights list"):
-        rt.render(scene, spp=1, width=4, height=4)
-
-
 def test_a_scene_without_meshes_packs_no_mesh_tables():
     assert pack_scene(rt.load_scene("cornell_box")).tris is None
 

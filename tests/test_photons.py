@@ -20,7 +20,7 @@ def _gather_all(caustics, m, points, obj, n, albedo, left):
     out = np.zeros((points.shape[0], 3))
     for i in range(points.shape[0]):
         z = (points[i, 0], points[i, 1], points[i, 2])
-        out[i] = photons.gather(caustics, m, z, obj, n, albedo, left)
+        out[i] = photons.gather(caustics, m, z, obj, n, n, albedo, left)
     return out
 
 

@@ -98,6 +98,11 @@ class Triangles(NamedTuple):
     INDEX (shapes/triangle.py), and the scene's 4-wide BVH (wide_bvh.py),
     which a scene with meshes walks instead of the binary one."""
     uvs: np.ndarray        # float64 [T, 6]: (u, v) at P0, P1, P2; [0, 6]: none
+    normals: np.ndarray    # float64 [T, 9]: unit vertex normals at P0, P1, P2 (NaN: a
+    #                        flat triangle); [0, 9]: no mesh shades smoothly
+    groups: np.ndarray     # int64 [G, 3]: the lights list's meshes (mesh_light.py)
+    group_cdf: np.ndarray  # float64: their triangles' cumulative areas over the total
+    group_area: np.ndarray  # float64 [G]: their areas
     wide_box: np.ndarray   # float64 [W, 6, 4]: each node's children's boxes
     wide_child: np.ndarray  # int64 [W, 4]: a wide node, or a leaf (first, count)
     leaf_prim: np.ndarray  # int64 [P]: the leaves' objects (-1 - k: not a triangle)

@@ -8,7 +8,7 @@ import numpy as np
 
 from ..errors import SceneError
 from ..scene.fields import SKY
-from . import bvh as hierarchy, wide_bvh
+from . import bvh as hierarchy, mesh_light, wide_bvh
 from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS,
                      MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_MAT, PRIMITIVE_KINDS, RECT,
                      SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles)
@@ -154,7 +154,8 @@ def pack_scene(scene, bvh=None):
         tree = hierarchy.empty_bvh(len(obj_i), ids)
     emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
     mat_f = mat_f.reshape(-1, MAT_FLOATS)
-    mesh_tables = tris.arrays(obj_i, obj_f, tree)
+    mesh_lights = [(first[id(s)], s.primitives) for s in scene.lights if s.kind == "mesh"]
+    mesh_tables = tris.arrays(obj_i, obj_f, tree, mesh_lights)
     if mesh_tables is not None:     # walked 4-wide: the binary nodes are not kept
         tree = (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), tree[2])
     return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
@@ -168,11 +169,12 @@ class TriangleTables:
 
     def __init__(self):
         self.count, self.uvs, self.any_uvs = 0, [], False
+        self.normals, self.any_normals = [], False
 
     def add(self, shape):
         """The obj_f rows [F, OBJ_FLOATS] of a mesh shape, placed in the world
         (its flip_face reverses the winding: the other side is the front)."""
-        vertices, faces, uvs = shape.geometry
+        vertices, faces, uvs, normals = shape.geometry
         rot, offset = shape.placement()
         world = vertices @ rot.T + offset
         if shape.flipped:
@@ -183,16 +185,24 @@ class TriangleTables:
         self.uvs.append(uvs[faces].reshape(-1, 6) if uvs is not None
                         else np.zeros((len(faces), 6)))
         self.any_uvs |= uvs is not None
+        # Vertex normals turn with the mesh (rotate_y is a rotation); a flat
+        # mesh's rows are NaN (triangle.shading_normal).
+        self.normals.append((normals @ rot.T)[faces].reshape(-1, 9) if normals is not None
+                            else np.full((len(faces), 9), np.nan))
+        self.any_normals |= normals is not None
         self.count += len(faces)
         return rows
 
-    def arrays(self, obj_i, obj_f, tree):
+    def arrays(self, obj_i, obj_f, tree, mesh_lights):
         """layout.Triangles, with the 4-wide form of the BVH `tree` (bvh_box,
-        bvh_node, bvh_prims), or None when the scene has no mesh."""
+        bvh_node, bvh_prims) and the lights list's meshes (first object,
+        triangle count), or None when the scene has no mesh."""
         if self.count == 0:
             return None
         uvs = np.concatenate(self.uvs) if self.any_uvs else np.zeros((0, 6))
-        return Triangles(uvs, *wide_bvh.wide_tables(obj_i, obj_f, *tree))
+        normals = np.concatenate(self.normals) if self.any_normals else np.zeros((0, 9))
+        return Triangles(uvs, normals, *mesh_light.pack(obj_f, mesh_lights),
+                         *wide_bvh.wide_tables(obj_i, obj_f, *tree))
 
 
 def dark_sides(arrays):

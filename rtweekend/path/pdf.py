@@ -4,13 +4,34 @@ the material's own sampling.
 Every density is over solid angle at the shading point p, for unit directions.
 A light pdf is the books' hittable_pdf: the density of directions from p that
 hit the light, whatever lies in between (occlusion is the integrator's job).
-How each kind of light is sampled is its own (shapes/<kind>.py).  The
+How each kind of light is sampled is its own (shapes/<kind>.py; a mesh as a
+whole: mesh_light.py, which toward_light and density_toward pick).  The
 mixture's other component is the material's sampling (materials.py): for the
 books' lambertian, their cosine_pdf.
 """
 from ..kernel import sampler
 from ..kernel.jit import jit_step
-from . import materials, shapes
+from . import materials, mesh_light, shapes
+
+
+@jit_step
+def toward_light(scene, k, p, state, time):
+    """A unit direction from p towards the lights list's entry k (an object,
+    or the first triangle of a mesh: then the whole mesh), drawn by its own
+    sampling."""
+    g = mesh_light.group_of(scene.tris, k)
+    if g >= 0:
+        return mesh_light.sample_toward(scene.tris, scene.obj_f, g, p, state)
+    return shapes.sample_toward(scene, k, p, state, time)
+
+
+@jit_step
+def density_toward(scene, k, p, d, from_obj, from_inside, time):
+    """Density of d under toward_light(k) at p; 0 where d misses it."""
+    g = mesh_light.group_of(scene.tris, k)
+    if g >= 0:
+        return mesh_light.pdf_toward(scene.tris, scene.obj_f, g, p, d, from_obj)
+    return shapes.pdf_toward(scene, k, p, d, from_obj, from_inside, time)
 
 
 @jit_step
@@ -43,7 +64,7 @@ def lights_generate(scene, p, smp, time):
     lights = scene.lights
     u, smp = sampler.uniform(smp)
     k = lights[min(int(u * lights.shape[0]), lights.shape[0] - 1)]
-    w, state = shapes.sample_toward(scene, k, p, smp.state, time)
+    w, state = toward_light(scene, k, p, smp.state, time)
     return w, sampler.resume(smp, state)
 
 
@@ -57,7 +78,7 @@ def lights_value(scene, p, d, from_obj, from_inside, time):
     lights = scene.lights
     total = 0.0
     for j in range(lights.shape[0]):
-        total += shapes.pdf_toward(scene, lights[j], p, d, from_obj, from_inside, time)
+        total += density_toward(scene, lights[j], p, d, from_obj, from_inside, time)
     return total / lights.shape[0]
 
 
@@ -95,7 +116,7 @@ def mixture_sample(scene, bsdf, p, light_weight, use_lights, smp, time):
     if light:
         lights = scene.lights
         k = lights[min(int(pick * lights.shape[0]), lights.shape[0] - 1)]
-        w, state = shapes.sample_toward(scene, k, p, smp.state, time)
+        w, state = toward_light(scene, k, p, smp.state, time)
         return w, materials.NO_COLOR, sampler.resume(smp, state)
     wi, weight, _ = materials.sample_at(bsdf, v1, v2)
     return wi, weight, smp

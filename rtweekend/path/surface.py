@@ -7,8 +7,8 @@ one place (the books' hit_record).
 The shading normal n faces the incoming ray (the books' set_face_normal: it is
 what makes their materials two-sided); n_out is the shape's outward normal,
 which says where the ray goes next (shapes.enters).  The analytic kinds have
-one normal, so n is n_out or its opposite; a kind with its own shading normals
-(a mesh's vertex normals) would give them here.  albedo is the material's
+one normal, so n is n_out or its opposite; a smooth mesh shades with its
+interpolated vertex normals (shapes/triangle.py), turned the same way.  albedo is the material's
 colour at p, from its texture if it has one (textures.py; `textures` is None
 for a scene without any, and the kernel then has none of that code), and uv
 the coordinates it was looked up with ((0, 0) where nothing needed them).
@@ -64,6 +64,10 @@ def surface_at(scene, textures, k, o, d, t, time):
     p = madd(o, d, t)
     n_out = shapes.outward_normal(scene, k, p, time)
     front, n = face_normal(d, n_out)
+    if scene.tris is not None:      # a smooth mesh's normal, turned the same way
+        n = shapes.shading_normal(scene, scene.tris, k, p, n_out)
+        if not front:
+            n = (-n[0], -n[1], -n[2])
     m = scene.obj_i[k, OBJ_MAT]
     albedo = materials.color(scene, m)
     uv = (0.0, 0.0)

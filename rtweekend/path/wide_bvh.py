@@ -207,3 +207,52 @@ def walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
                 break
         else:
             return best, t_max
+
+
+@jit_step
+def solid_angle_sum(tris, obj_f, o, d, first, count, from_obj):
+    """Over every triangle of objects first .. first + count - 1 that the ray
+    o + t d (t > 0) meets, wherever, t^2 / |cos| (cos between d and its
+    normal): times 1 / area, the solid-angle density at o of d under a point
+    drawn uniformly on them (mesh_light.py).  from_obj is not met again."""
+    wide_box, wide_child = tris.wide_box, tris.wide_child
+    leaf_prim, leaf_tri = tris.leaf_prim, tris.leaf_tri
+    inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
+    frame = triangle.ray_frame(d)
+    nx = 0 if inv_d[0] >= 0.0 else 3
+    ny = 1 if inv_d[1] >= 0.0 else 4
+    nz = 2 if inv_d[2] >= 0.0 else 5
+    fx, fy, fz = 3 - nx, 5 - ny, 7 - nz
+    nodes = stack_array(STACK, np.int64)
+    zero = like(o[0], 0.0)
+    total = like(o[0], 0.0)
+    top = 1
+    nodes[0] = 0
+    while top > 0:
+        top -= 1
+        node = nodes[top]
+        if node >= 0:
+            for c in range(WIDTH):
+                t0 = max(max((wide_box[node, nx, c] - o[0]) * inv_d[0],
+                             (wide_box[node, ny, c] - o[1]) * inv_d[1]),
+                         max((wide_box[node, nz, c] - o[2]) * inv_d[2], zero))
+                t1 = min(min((wide_box[node, fx, c] - o[0]) * inv_d[0],
+                             (wide_box[node, fy, c] - o[1]) * inv_d[1]),
+                         (wide_box[node, fz, c] - o[2]) * inv_d[2])
+                if t0 <= t1:
+                    nodes[top] = wide_child[node, c]
+                    top += 1
+            continue
+        leaf = -1 - node
+        start = leaf >> COUNT_BITS
+        for j in range(start, start + (leaf & COUNT_MASK)):
+            k = leaf_prim[j]
+            if k < first or k >= first + count or k == from_obj:
+                continue                    # another object (or not a triangle: < 0)
+            t = triangle.hit_in_frame(leaf_tri, j, o, frame, like(o[0], INF))[0]
+            if t < INF:
+                cosine = abs(d[0] * obj_f[k, triangle.N] + d[1] * obj_f[k, triangle.N + 1] +
+                             d[2] * obj_f[k, triangle.N + 2])
+                if cosine > 0.0:
+                    total += t * t / cosine
+    return total

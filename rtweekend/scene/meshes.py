@@ -2,9 +2,12 @@
 what trimesh reads, the optional `meshes` extra) or given directly, and checked.
 
 A mesh is (vertices float64 [V, 3], faces int64 [F, 3], uvs float64 [V, 2] or
-None).  Faces with no area (two equal vertices, or three in a line) are left out:
-they cannot be hit and have no normal.  A file of several objects or materials
-becomes one mesh; the scene's material covers all of it.
+None, normals float64 [V, 3] unit or None).  Faces with no area (two equal
+vertices, or three in a line) are left out: they cannot be hit and have no
+normal.  A file of several objects or materials becomes one mesh, each part
+placed by the file's own transforms; the scene's material covers all of it.
+Vertex normals are the file's (OBJ `vn`, PLY nx/ny/nz, glTF NORMAL) when every
+part of it has them; they make the mesh shade smoothly (path/shapes/triangle.py).
 """
 from pathlib import Path
 
@@ -16,7 +19,8 @@ INSTALL = "pip install 'rtweekend[meshes]'"
 
 
 def read(path):
-    """(vertices, faces, uvs) of the mesh file at path (FieldError on `file`)."""
+    """(vertices, faces, uvs, normals) of the mesh file at path (FieldError on
+    `file`): uvs and normals None where the file does not give every part's."""
     try:
         import trimesh
     except ImportError:
@@ -25,23 +29,63 @@ def read(path):
     if not path.is_file():
         raise FieldError("file", f"no such mesh file: {path}")
     try:
-        # force="mesh": a file of several objects is concatenated into one mesh;
-        # process=False: the file's vertices as they are (and their uvs with them).
-        mesh = trimesh.load(str(path), force="mesh", process=False)
+        # process=False: the file's vertices as they are (their uvs and normals
+        # with them).  A scene keeps each part's normals, which a mesh
+        # concatenated by trimesh would recompute from the faces.
+        scene = trimesh.load_scene(str(path), process=False)
     except Exception as e:          # trimesh raises many kinds for a file it cannot read
         why = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise FieldError("file", f"cannot read the mesh {path}: {why}") from None
-    faces = getattr(mesh, "faces", None)
-    if faces is None or len(faces) == 0:
+    parts = []
+    for node in scene.graph.nodes_geometry:
+        transform, name = scene.graph[node]
+        part = scene.geometry.get(name)
+        if isinstance(part, trimesh.Trimesh) and len(part.faces):
+            parts.append((np.asarray(transform, dtype=np.float64), part))
+    if not parts:
         raise FieldError("file", f"{path} holds no triangles")
-    uvs = getattr(getattr(mesh, "visual", None), "uv", None)
-    return np.asarray(mesh.vertices), np.asarray(faces), uvs
+    vertices, faces, uvs, normals, count = [], [], [], [], 0
+    for transform, part in parts:
+        m, offset = transform[:3, :3], transform[:3, 3]
+        f = np.asarray(part.faces, dtype=np.int64)
+        v = np.asarray(part.vertices, dtype=np.float64)
+        if not np.array_equal(transform, np.eye(4)):    # (keeps a NaN where it was)
+            v = v @ m.T + offset
+            if np.linalg.det(m) < 0:
+                f = f[:, ::-1]      # a mirroring transform: the front stays outward
+        vertices.append(v)
+        faces.append(f + count)
+        count += len(part.vertices)
+        uv = getattr(part.visual, "uv", None)
+        uvs.append(None if uv is None or len(uv) != len(part.vertices) else np.asarray(uv))
+        normals.append(_file_normals(part, m))
+    return (np.concatenate(vertices), np.concatenate(faces),
+            None if any(u is None for u in uvs) else np.concatenate(uvs),
+            None if any(n is None for n in normals) else np.concatenate(normals))
 
 
-def check(vertices, faces, uvs=None, where="mesh"):
+def _file_normals(part, m):
+    """The vertex normals the file gave `part` (trimesh keeps them in its cache;
+    the public vertex_normals would make some up from the faces), placed by the
+    3x3 map m (normals go by its inverse transpose), or None."""
+    if "vertex_normals" not in part._cache:
+        return None
+    n = np.asarray(part._cache["vertex_normals"], dtype=np.float64)
+    if n.shape != (len(part.vertices), 3):
+        return None
+    if np.array_equal(m, np.eye(3)):
+        return n
+    try:
+        return n @ np.linalg.inv(m)     # (M^-T n) for each row n
+    except np.linalg.LinAlgError:
+        return None
+
+
+def check(vertices, faces, uvs=None, normals=None, where="mesh"):
     """Clean copies of the arrays, or FieldError naming what is wrong:
-    vertices finite [V, 3], faces [F, 3] of indices below V, uvs [V, 2] finite;
-    faces without area dropped (at least one must remain)."""
+    vertices finite [V, 3], faces [F, 3] of indices below V, uvs [V, 2] finite,
+    normals [V, 3] finite and not zero (made unit); faces without area dropped
+    (at least one must remain)."""
     try:
         v = np.array(vertices, dtype=np.float64)
         f = np.array(faces)
@@ -70,11 +114,53 @@ def check(vertices, faces, uvs=None, where="mesh"):
         uvs = np.array(uvs, dtype=np.float64)
         if uvs.shape != (len(v), 2) or not np.isfinite(uvs).all():
             uvs = None              # texture coordinates that do not fit: none
+    if normals is not None:
+        normals = unit_normals(normals, len(v), where)
     area = np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1)
     keep = area > 0.0
     if not keep.any():
         raise FieldError(where, f"none of its {len(f)} triangles has an area")
-    return v, f[keep], uvs
+    return v, f[keep], uvs, normals
+
+
+def unit_normals(normals, n_vertices, where):
+    """normals [V, 3] made unit, or FieldError: the wrong shape, or one that is
+    not finite or has no length."""
+    try:
+        n = np.array(normals, dtype=np.float64)
+    except (TypeError, ValueError) as e:
+        raise FieldError(where, f"normals: not an array of numbers: {e}") from None
+    if n.shape != (n_vertices, 3):
+        raise FieldError(where, f"normals: expected one per vertex, an array of shape "
+                         f"({n_vertices}, 3), got {n.shape}")
+    length = np.linalg.norm(n, axis=1)
+    bad = ~np.isfinite(n).all(axis=1) | ~(length > 0.0) | ~np.isfinite(length)
+    if bad.any():
+        i = int(np.flatnonzero(bad)[0])
+        raise FieldError(where, f"the normal of vertex {i} is not a direction: "
+                         f"{n[i].tolist()}")
+    return n / length[:, None]
+
+
+def smooth_normals(vertices, faces):
+    """Vertex normals made from the faces: each vertex's the sum of its faces'
+    (P1 - P0) x (P2 - P0), so weighted by area, made unit (a vertex whose faces
+    cancel keeps the first face's normal)."""
+    cross = np.cross(vertices[faces[:, 1]] - vertices[faces[:, 0]],
+                     vertices[faces[:, 2]] - vertices[faces[:, 0]])
+    n = np.zeros_like(vertices)
+    for c in range(3):
+        np.add.at(n, faces[:, c], cross)
+    length = np.linalg.norm(n, axis=1)
+    lone = ~(length > 0.0)
+    if lone.any():                  # faces that cancel there: one of them
+        face = np.zeros(len(vertices), dtype=np.int64)
+        for c in range(3):
+            face[faces[:, c]] = np.arange(len(faces))
+        n[lone] = cross[face[lone]]
+        length = np.linalg.norm(n, axis=1)
+    length[length == 0.0] = 1.0     # a vertex of no face: never read
+    return n / length[:, None]
 
 
 def areas(vertices, faces):

@@ -146,10 +146,6 @@ class Scene:
             if isinstance(light, Shape) and light.medium:
                 raise SceneError(f"lights: {light.label} is a medium: its boundary is "
                                  "invisible, and only surfaces can be sampled as lights")
-            if isinstance(light, Shape) and light.kind == "mesh":
-                raise SceneError(f"lights: {light.label}: a mesh cannot be in the lights "
-                                 "list (an emitting mesh is found by next-event estimation "
-                                 "and bdpt without it)")
         if not self.objects:
             raise SceneError("objects: the scene has no objects")
 

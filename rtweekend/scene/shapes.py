@@ -212,28 +212,40 @@ def constant_medium(boundary: Shape, density: float, albedo: Color | Texture, *,
 
 @checked("mesh")
 def mesh(file: str | Path | tuple, material: Material, *, scale: float | Vec3 = 1.0,
-         name: str | None = None, base: str | Path | None = None) -> Shape:
+         smooth: bool | None = None, name: str | None = None,
+         base: str | Path | None = None) -> Shape:
     """A triangle mesh.  file: a mesh file -- OBJ, PLY, STL, OFF, glTF/GLB, read
     by trimesh (pip install 'rtweekend[meshes]'); a relative path is taken from
     `base` (the scene file's folder) or the current one -- or the arrays
-    (vertices [V, 3], faces [F, 3]) or (vertices, faces, uvs [V, 2]).  Every
-    triangle has `material` (a file's own materials are not read); its front
-    side is the one its vertices turn counter-clockwise around, as the formats
-    define it.  scale: a factor (or one per axis) on the vertices, applied
-    before rotate_y and translate."""
+    (vertices [V, 3], faces [F, 3]), (vertices, faces, uvs [V, 2] or None) or
+    (vertices, faces, uvs, normals [V, 3]).  Every triangle has `material` (a
+    file's own materials are not read); its front side is the one its
+    vertices turn counter-clockwise around, as the formats define it.
+    scale: a factor (or one per axis) on the vertices, applied before rotate_y
+    and translate.  smooth: shade with vertex normals interpolated across each
+    triangle -- None (the default): where the file or arrays give them; True:
+    theirs, or made from the faces (weighted by area) if they give none;
+    False: flat, each triangle its own normal."""
+    if smooth is not None:
+        smooth = fields.boolean(smooth, "smooth")
     if isinstance(file, (str, Path)):
         path = Path(fields.text(str(file), "file"))
         if not path.is_absolute() and base is not None:
             path = Path(base) / path
-        vertices, faces, uvs = meshes.read(path)
+        vertices, faces, uvs, normals = meshes.read(path)
         where = "file"
     else:
         try:
             vertices, faces, *rest = file
         except (TypeError, ValueError):
-            raise FieldError("file", "expected a file name or the arrays (vertices, faces)"
-                             " or (vertices, faces, uvs)") from None
+            raise FieldError("file", "expected a file name or the arrays (vertices, faces),"
+                             " (vertices, faces, uvs) or (vertices, faces, uvs, normals)"
+                             ) from None
+        if len(rest) > 2:
+            raise FieldError("file", f"expected at most 4 arrays (vertices, faces, uvs, "
+                             f"normals), got {2 + len(rest)}")
         uvs = rest[0] if rest else None
+        normals = rest[1] if len(rest) > 1 else None
         where = "mesh"
     if isinstance(scale, (list, tuple, np.ndarray)):
         factor = fields.vec3(scale, "scale")
@@ -241,13 +253,19 @@ def mesh(file: str | Path | tuple, material: Material, *, scale: float | Vec3 = 
         factor = (fields.number(scale, "scale"),) * 3
     if not all(abs(s) >= fields.SMALLEST for s in factor):
         raise FieldError("scale", f"must not be 0, got {scale}")
-    vertices, faces, uvs = meshes.check(vertices, faces, uvs, where)
+    vertices, faces, uvs, normals = meshes.check(vertices, faces, uvs,
+                                                 None if smooth is False else normals, where)
     vertices = vertices * np.asarray(factor)
     if np.abs(vertices).max() > fields.LARGEST:
         raise FieldError("scale", f"puts vertices beyond {fields.LARGEST:g}")
     if np.prod(np.sign(factor)) < 0:
         faces = faces[:, ::-1].copy()      # a mirroring scale keeps the front side outward
-    return Shape("mesh", (vertices, faces, uvs), check_material(material), name=name)
+    if normals is not None:                # normals go by the scale's inverse
+        normals = normals / np.asarray(factor)
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+    elif smooth:
+        normals = meshes.smooth_normals(vertices, faces)
+    return Shape("mesh", (vertices, faces, uvs, normals), check_material(material), name=name)
 
 
 MEDIUM_BOUNDARIES = ("sphere", "box")

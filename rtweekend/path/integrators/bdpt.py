@@ -44,9 +44,9 @@ from ..layout import DIFFUSE_LIGHT, NO_HIT
 from ..lights import background
 from . import mis, photons
 from .subpaths import camera_subpath, light_subpath
-from .vertices import (BACK, BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, OBJ, P,
+from .vertices import (BACK, BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, NS, OBJ, P,
                        SURFACE, TYPE, WO, area_factor, back_density, col, connectible,
-                       direction_pdf, on_surface, scatter, toward)
+                       direction_pdf, light_scatter, on_surface, scatter, toward)
 
 SPLATS = True           # light tracing's strategies splat (film.py)
 ZERO = (0.0, 0.0, 0.0)
@@ -144,7 +144,7 @@ def join(scene, params, cf, ci, lf, li, s, t, media, time):
     w, dist = toward(p, q)
     back = neg(w)
     wo_t, wo_s = col(cf, pt, WO), col(lf, qs, WO)
-    f_s = scatter(lf, li, qs, wo_s, back)
+    f_s = light_scatter(lf, li, qs, wo_s, back)
     if not nonzero(f_s):
         return ZERO, 0
     f_t = scatter(cf, ci, pt, wo_t, w)
@@ -183,7 +183,7 @@ def to_camera(scene, params, film, cf, ci, lf, li, s, source, media, time, smp):
     if not on_film or pdf <= 0.0:
         return 0, smp
     wo_s = col(lf, qs, WO)
-    f = scatter(lf, li, qs, wo_s, wi)
+    f = light_scatter(lf, li, qs, wo_s, wi)
     if not nonzero(f):
         return 0, smp
     tr = clear(scene, q, li[qs, OBJ], col(lf, qs, NG), wi, dist, np.int64(NO_HIT), media, time)
@@ -215,8 +215,8 @@ def first_seen(scene, cf, ci, n, escaped, d, beta):
             c = col(cf, i, COLOR)
             if ci[i, TYPE] == MEDIUM:
                 return mul(col(cf, i, BETA), c), towards, ZERO
-            normal = col(cf, i, NG)
-            facing = dot(normal, towards) > 0.0
+            normal = col(cf, i, NS)             # the shading normal, NG's side
+            facing = dot(col(cf, i, NG), towards) > 0.0
             if not facing:
                 normal = neg(normal)
             if ci[i, MKIND] == DIFFUSE_LIGHT:

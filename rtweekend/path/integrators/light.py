@@ -13,9 +13,9 @@ adds up every pixel's light from every thread's paths.
 
 The throughput of a light path starts at Le / p(point) x pi (the cosine draw
 cancels cos / pi) and is multiplied by each bounce's weight f |cos| / pdf, the
-cosine of the new direction: shading normals are the shapes' own here, so
-transport in this direction needs no correction, except at a refraction,
-which is not symmetric (materials.adjoint).  A connection adds beta x
+cosine of the new direction, and, where transport in this direction is not
+symmetric, by materials.adjoint: at a refraction, and where a smooth mesh
+shades with a normal that is not its geometric one (on connections too).  A connection adds beta x
 f(wo, towards the lens) |cos| x W_e / p_lens, which film.py divides by spp.
 
 What it renders well: light reaching smooth surfaces through glass or off a
@@ -78,7 +78,7 @@ def connect_surface(scene, params, film, hit, bsdf, wo, beta, source, time, medi
     wi, dist, c, x, y, on_film, smp = to_lens(params, hit.p, smp)
     if not on_film:
         return smp
-    att, f = materials.eval(bsdf, wo, wi, c)
+    att, f = materials.eval(bsdf, wo, wi, c * materials.shading_adjoint(bsdf, wo, wi))
     if f > 0.0:
         deliver(scene, params, film, (beta[0] * att[0] * f, beta[1] * att[1] * f,
                                       beta[2] * att[2] * f), hit.p, wi, dist, hit.obj,

@@ -45,12 +45,12 @@ from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.rows import on_threads
 from ...kernel.stack import stack_array
 from ...kernel.vec3 import dot, neg
-from .. import lights, materials, pdf, shapes
+from .. import lights, materials, mesh_light, pdf, shapes
 from ..bvh import closest_hit
 from ..bvh_build import object_bounds
 from ..layout import LAMBERTIAN, NO_HIT
 from ..surface import surface_at
-from .vertices import BETA, COLOR, DELTA, MKIND, NG, OBJ, P, SURFACE, TYPE, WO, col
+from .vertices import BETA, COLOR, DELTA, MKIND, NG, NS, OBJ, P, SURFACE, TYPE, WO, col
 
 INF = math.inf
 PHOTONS = 1024          # light paths traced per map (per sample index)
@@ -80,7 +80,8 @@ def settings(arrays):
     list, emitters left out: renderer.freeze), whose size is the caustics'
     scale -- not the scene's, which a ground sphere of radius 1000 would make
     blur every caustic."""
-    boxes = object_bounds(arrays.obj_i[arrays.lights], arrays.obj_f[arrays.lights])
+    covered = mesh_light.objects(arrays)
+    boxes = object_bounds(arrays.obj_i[covered], arrays.obj_f[covered])
     return empty(RADIUS * float(np.linalg.norm(boxes[:, 3:].max(axis=0) -
                                                boxes[:, :3].min(axis=0))))
 
@@ -172,7 +173,7 @@ def trace_photon(scene, params, out_f, out_i, n, textures, smp):
     attractors = scene.lights
     u, smp = sampler.uniform(smp)
     target = attractors[min(int(u * attractors.shape[0]), attractors.shape[0] - 1)]
-    d, state = shapes.sample_toward(scene, target, p, smp.state, None)
+    d, state = pdf.toward_light(scene, target, p, smp.state, None)
     smp = sampler.resume(smp, state)
     c = dot(d, nl)
     if not c > 0.0:
@@ -210,11 +211,14 @@ def trace_photon(scene, params, out_f, out_i, n, textures, smp):
 
 
 @jit_step
-def gather(caustics, m, z, obj, n, albedo, segments_left):
+def gather(caustics, m, z, obj, n, ns, albedo, segments_left):
     """The radiance towards the camera at lambertian point z of object obj (n:
-    its normal on the camera's side) from map m's photons: albedo / pi x flux
-    within the radius / (pi r^2).  Photons more than segments_left segments from
-    their light are left out (max_depth)."""
+    its normal on the camera's side, ns its shading normal there) from map m's
+    photons: albedo / pi x flux within the radius / (pi r^2), each photon's
+    flux times |cos| about ns over |cos| about n where they differ (a smooth
+    mesh: the flux is per unit of the surface's area, the material shades
+    with ns).  Photons more than segments_left segments from their light are
+    left out (max_depth)."""
     r = caustics.radius[m]
     width = 2.0 * r
     base = caustics.first[m]
@@ -228,6 +232,7 @@ def gather(caustics, m, z, obj, n, albedo, segments_left):
     for c in range(8):
         slots[c] = cell_hash(lo[0] + (c & 1), lo[1] + ((c >> 1) & 1), lo[2] + (c >> 2))
     r2 = r * r
+    smooth = ns[0] != n[0] or ns[1] != n[1] or ns[2] != n[2]
     for c in range(8):
         h = slots[c]
         seen = False
@@ -241,10 +246,17 @@ def gather(caustics, m, z, obj, n, albedo, segments_left):
             dx, dy, dz = pf[q, POS] - z[0], pf[q, POS + 1] - z[1], pf[q, POS + 2] - z[2]
             if dx * dx + dy * dy + dz * dz >= r2:
                 continue
-            if pf[q, CAME] * n[0] + pf[q, CAME + 1] * n[1] + pf[q, CAME + 2] * n[2] <= 0.0:
+            cos_g = pf[q, CAME] * n[0] + pf[q, CAME + 1] * n[1] + pf[q, CAME + 2] * n[2]
+            if cos_g <= 0.0:
                 continue                    # lit from the other side
-            total = (total[0] + pf[q, FLUX], total[1] + pf[q, FLUX + 1],
-                     total[2] + pf[q, FLUX + 2])
+            if smooth:
+                a = abs(pf[q, CAME] * ns[0] + pf[q, CAME + 1] * ns[1] +
+                        pf[q, CAME + 2] * ns[2]) / cos_g
+                total = (total[0] + pf[q, FLUX] * a, total[1] + pf[q, FLUX + 1] * a,
+                         total[2] + pf[q, FLUX + 2] * a)
+            else:
+                total = (total[0] + pf[q, FLUX], total[1] + pf[q, FLUX + 1],
+                         total[2] + pf[q, FLUX + 2])
     s = 1.0 / (math.pi * math.pi * r2)
     return (albedo[0] * total[0] * s, albedo[1] * total[1] * s, albedo[2] * total[2] * s)
 
@@ -267,11 +279,11 @@ def caustic_light(caustics, s, cf, ci, z, max_depth):
     """What map s says reaches camera vertex z (seen_through) and goes on
     towards the camera: beta x the gathered radiance."""
     wo = col(cf, z, WO)
-    n = col(cf, z, NG)
+    n, ns = col(cf, z, NG), col(cf, z, NS)
     if dot(wo, n) < 0.0:
-        n = neg(n)
-    light = gather(caustics, s - caustics.s0, col(cf, z, P), ci[z, OBJ], n, col(cf, z, COLOR),
-                   max_depth - z)
+        n, ns = neg(n), neg(ns)
+    light = gather(caustics, s - caustics.s0, col(cf, z, P), ci[z, OBJ], n, ns,
+                   col(cf, z, COLOR), max_depth - z)
     beta = col(cf, z, BETA)
     return (beta[0] * light[0], beta[1] * light[1], beta[2] * light[2])
 

@@ -19,6 +19,7 @@ Row i of `vf` (floats) and `vi` (integers) is vertex i:
   WO     the unit direction from it to the vertex before (0 at vertex 0)
   BACK   what turns a solid-angle density at it towards the vertex before into
          that vertex's density (area_factor, or projected; 0 at vertex 0)
+  NS     the shading normal on NG's side (NG itself but on a smooth mesh)
 
 A vertex answers, for a pair of directions leaving it (wo towards where its
 light goes or comes from, wi the other): `scatter` = f(wo, wi) |cos theta_i|
@@ -55,8 +56,8 @@ from ..layout import DIFFUSE_LIGHT
 from ..materials import Bsdf, isotropic
 
 # Columns of vf.
-P, NG, BETA, COLOR, PARAM, FWD, REV, ACC, WO, BACK = 0, 3, 6, 9, 12, 13, 14, 15, 16, 19
-NF = 20
+P, NG, BETA, COLOR, PARAM, FWD, REV, ACC, WO, BACK, NS = 0, 3, 6, 9, 12, 13, 14, 15, 16, 19, 20
+NF = 23
 # Columns of vi.
 TYPE, OBJ, MKIND, DELTA = 0, 1, 2, 3
 NI = 4
@@ -67,11 +68,11 @@ ZERO = (0.0, 0.0, 0.0)
 
 
 @jit_step
-def put(vf, vi, i, kind, p, n, beta, color, param, obj, mkind, delta, density):
+def put(vf, vi, i, kind, p, n, ns, beta, color, param, obj, mkind, delta, density):
     """Write vertex i, and its WO and BACK towards vertex i - 1 (its REV is set
-    later, when the next vertex is drawn).  density: vertex 0's area density,
-    or the solid-angle density vertex i - 1 drew it with (FWD is its area
-    density)."""
+    later, when the next vertex is drawn).  n, ns: its geometric and shading
+    normals (outward); density: vertex 0's area density, or the solid-angle
+    density vertex i - 1 drew it with (FWD is its area density)."""
     wo, back, fwd = ZERO, 0.0, density
     if i > 0:
         wo, dist = toward(p, col(vf, i - 1, P))
@@ -87,6 +88,7 @@ def put(vf, vi, i, kind, p, n, beta, color, param, obj, mkind, delta, density):
     for c in range(3):
         vf[i, P + c] = p[c]
         vf[i, NG + c] = n[c]
+        vf[i, NS + c] = ns[c]
         vf[i, BETA + c] = beta[c]
         vf[i, COLOR + c] = color[c]
         vf[i, WO + c] = wo[c]
@@ -130,12 +132,25 @@ def toward(a, b):
 
 @jit_step
 def bsdf_facing(vf, vi, i, wo):
-    """The material at surface vertex i, its normal on wo's side."""
-    n = col(vf, i, NG)
-    front = dot(wo, n) > 0.0
+    """The material at surface vertex i, its normals on wo's side."""
+    ng, n = col(vf, i, NG), col(vf, i, NS)
+    front = dot(wo, ng) > 0.0
     if not front:
-        n = (-n[0], -n[1], -n[2])
-    return Bsdf(vi[i, MKIND], col(vf, i, COLOR), vf[i, PARAM], n, front)
+        ng, n = (-ng[0], -ng[1], -ng[2]), (-n[0], -n[1], -n[2])
+    return Bsdf(vi[i, MKIND], col(vf, i, COLOR), vf[i, PARAM], n, front, ng)
+
+
+@jit_step
+def light_scatter(vf, vi, i, wo, wi):
+    """scatter at vertex i of a light subpath, light arriving from wo and
+    leaving along wi: at a smooth mesh's vertex, times the shading normal's
+    adjoint factor (materials.shading_adjoint)."""
+    f = scatter(vf, vi, i, wo, wi)
+    if vi[i, TYPE] == SURFACE and (vf[i, NS] != vf[i, NG] or vf[i, NS + 1] != vf[i, NG + 1]
+                                   or vf[i, NS + 2] != vf[i, NG + 2]):
+        a = materials.shading_adjoint(bsdf_facing(vf, vi, i, wo), wo, wi)
+        f = (f[0] * a, f[1] * a, f[2] * a)
+    return f
 
 
 @jit_step

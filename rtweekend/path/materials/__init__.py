@@ -19,10 +19,13 @@ after that), and asks it, never its kind:
   eval(bsdf, wo, wi, scale)      -> (attenuation, scattering)
   pdf(bsdf, wo, wi)              -> density of wi (solid angle)
   adjoint(bsdf, wo, wi)          -> factor on sample's weight for a light subpath
+  shading_adjoint(bsdf, wo, wi)  -> its part due to a shading normal (also on
+                                    a light subpath's connections)
 
 Directions point away from the surface: wo towards where the light goes (the
 camera side, -d for a ray along d), wi the other direction of the pair.  The
-record's normal is the shading normal on wo's side (Surface.n), its colour the
+record's normal is the shading normal on wo's side (Surface.n; a smooth mesh's
+interpolated vertex normal, else the geometric one, ng), its colour the
 material's at the hit (Surface.albedo: textured or not).
 
 eval returns f(wo, wi) |cos theta_i| as attenuation x scattering: the books'
@@ -60,6 +63,7 @@ class Bsdf(NamedTuple):
     param: float           # fuzz, index of refraction
     n: tuple               # the shading normal, on the incoming ray's side
     front: bool            # the ray met the front side
+    ng: tuple              # the geometric normal, on the incoming ray's side
 
 
 @jit_step
@@ -74,7 +78,8 @@ def color(scene, m):
 def at(scene, hit):
     """The Bsdf of the surface record `hit` (surface.py)."""
     m = hit.mat
-    return Bsdf(scene.mat_i[m], hit.albedo, scene.mat_f[m, MAT_PARAM], hit.n, hit.front)
+    ng = hit.n_out if hit.front else (-hit.n_out[0], -hit.n_out[1], -hit.n_out[2])
+    return Bsdf(scene.mat_i[m], hit.albedo, scene.mat_f[m, MAT_PARAM], hit.n, hit.front, ng)
 
 
 @jit_step
@@ -89,7 +94,7 @@ def emitted(bsdf):
 def emitted_by(scene, m, front, color):
     """emitted() of material m with colour `color` at a point seen from its front
     side or not (a point sampled on a light: no whole record needed)."""
-    return emitted(Bsdf(scene.mat_i[m], color, 0.0, NO_DIRECTION, front))
+    return emitted(Bsdf(scene.mat_i[m], color, 0.0, NO_DIRECTION, front, NO_DIRECTION))
 
 
 @jit_step
@@ -141,10 +146,27 @@ def adjoint(bsdf, wo, wi):
     at a refraction (dielectric.adjoint_weight).  Without it a light inside glass
     of index 1.5 comes out 2.25 times too dim; through a ball (in and out at the
     same angle) the factors cancel."""
+    a = 1.0
     if bsdf.kind == DIELECTRIC and dot(wi, bsdf.n) < 0.0:    # through the surface
-        return dielectric.adjoint_weight(dot(wo, bsdf.n), -dot(wi, bsdf.n), bsdf.front,
-                                         bsdf.param)
-    return 1.0
+        a = dielectric.adjoint_weight(dot(wo, bsdf.n), -dot(wi, bsdf.n), bsdf.front,
+                                      bsdf.param)
+    return a * shading_adjoint(bsdf, wo, wi)
+
+
+@jit_step
+def shading_adjoint(bsdf, wo, wi):
+    """What light arriving along -wo and leaving along wi takes beside f |cos|
+    where the shading normal n is not the geometric ng (a smooth mesh):
+    |wo.n| |wi.ng| / (|wo.ng| |wi.n|), which makes a subpath that carries
+    light see the same surface as one that carries importance (Veach's thesis
+    5.3).  Exactly 1 where n is ng: every other surface."""
+    n, ng = bsdf.n, bsdf.ng
+    if n[0] == ng[0] and n[1] == ng[1] and n[2] == ng[2]:
+        return 1.0
+    den = abs(dot(wo, ng)) * abs(dot(wi, n))
+    if den == 0.0:
+        return 0.0                      # grazing: no light, and no infinity
+    return abs(dot(wo, n)) * abs(dot(wi, ng)) / den
 
 
 @jit_step

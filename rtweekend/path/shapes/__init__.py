@@ -5,6 +5,7 @@ for the row k of obj_f it packed:
 
   distance(obj_f, k, o, d, t_max, from_self, from_inside)  nearest hit in (0, t_max)
   outward_normal(obj_f, k, p)          unit normal on its front side
+  shading_normal(...)                  triangles only (a smooth mesh's normal)
   enters(obj_f, k, n, d)               does a ray leaving it along d (its outward
                                        normal there: n) go inside it?
   sample_toward(obj_f, k, p, state)    a direction from p towards it (as a light)
@@ -96,6 +97,19 @@ def outward_normal(scene, k, p, time):
     if kind == TRIANGLE:
         return triangle.outward_normal(scene.tris, f, k)
     return (NAN, NAN, NAN)
+
+
+@jit_step
+def shading_normal(scene, tris, k, p, n_out):
+    """The unit normal the materials shade with at p on object k, on n_out's
+    side: a smooth mesh's interpolated vertex normals, else n_out.  tris:
+    scene.tris, a direct argument so that a scene without meshes compiles
+    none of this."""
+    if tris is None:
+        return n_out
+    if scene.obj_i[k, OBJ_KIND] == TRIANGLE:
+        return triangle.shading_normal(tris, scene.obj_f, k, p, n_out)
+    return n_out
 
 
 @jit_step

@@ -16,6 +16,15 @@ the same two points in the same order by both triangles, with opposite signs,
 so a ray through an edge or a vertex meets at least one of them: no ray slips
 between the faces of a closed mesh (tests/test_meshes.py aims 10^6 at them).
 
+Shading.  A mesh with vertex normals (layout.Triangles.normals) shades with
+them, interpolated across each triangle by the hit's barycentric weights
+(Phong's normal interpolation); a flat one with the triangle's own normal.
+The geometric normal still decides which side a ray is on, where it goes and
+the densities of points; the materials see the shading normal.  Transport
+that carries light (light tracing, bdpt's light subpaths, photons) is not
+symmetric under it and takes materials.shading_adjoint's factor (Veach's
+thesis 5.3; pbrt-v4's CorrectShadingNormal).
+
 Self-intersection keeps the analytic kinds' rule: a ray leaving a triangle
 never meets that triangle again (a plane).  Its neighbours it may meet -- a
 crease is seen from the triangle beside it -- and only a leaving point within
@@ -147,6 +156,30 @@ def outward_normal(tris, obj_f, k):
     if tris is None:
         return (NAN, NAN, NAN)
     return _vertex(obj_f, k, N)
+
+
+@jit_step
+def shading_normal(tris, obj_f, k, p, n_out):
+    """The normal a smooth mesh shades with at p: its vertex normals weighted
+    by p's barycentric weights, made unit and turned to n_out's side (a
+    file's normals may point either way); n_out for a flat triangle."""
+    if tris is None:
+        return n_out
+    t = tris.normals
+    if t.shape[0] == 0:
+        return n_out
+    i = np.int64(obj_f[k, INDEX])
+    if not t[i, 0] == t[i, 0]:          # NaN: a flat mesh's triangle
+        return n_out
+    b0, b1, b2 = weights(obj_f, k, p)
+    n = (b0 * t[i, 0] + b1 * t[i, 3] + b2 * t[i, 6], b0 * t[i, 1] + b1 * t[i, 4] + b2 * t[i, 7],
+         b0 * t[i, 2] + b1 * t[i, 5] + b2 * t[i, 8])
+    length = math.sqrt(dot(n, n))
+    if not length > 0.0:                # opposite vertex normals cancel here
+        return n_out
+    if dot(n, n_out) < 0.0:
+        length = -length
+    return (n[0] / length, n[1] / length, n[2] / length)
 
 
 @jit_step
