@@ -64,75 +64,82 @@ def _area(lx, ly, lz, hx, hy, hz):
 
 
 @njit(cache=True)
-def _bins(bounds, centroids, ids, start, end, axis, lo_c, extent):
-    """Each object's bin on `axis`, and the bins' counts and boxes."""
-    b = np.empty(end - start, dtype=np.int64)
-    count = np.zeros(BINS, dtype=np.int64)
-    blo = np.full((BINS, 3), np.inf)
-    bhi = np.full((BINS, 3), -np.inf)
+def _bins(bounds, centroids, ids, start, end, lo_c, extent, bin_of, count, blo, bhi):
+    """Each object's bin on every axis of non-zero extent (bin_of[axis, j -
+    start]), and the bins' counts and boxes (count, blo, bhi [axis, bin]): one
+    pass over the objects for the three axes."""
+    count[:] = 0
+    blo[:] = np.inf
+    bhi[:] = -np.inf
     for j in range(start, end):
         k = ids[j]
-        i = min(int((centroids[k, axis] - lo_c) / extent * BINS), BINS - 1)
-        b[j - start] = i
-        count[i] += 1
-        for c in range(3):
-            blo[i, c] = min(blo[i, c], bounds[k, c])
-            bhi[i, c] = max(bhi[i, c], bounds[k, 3 + c])
-    return b, count, blo, bhi
+        for axis in range(3):
+            if extent[axis] <= 0.0:
+                continue
+            i = min(int((centroids[k, axis] - lo_c[axis]) / extent[axis] * BINS), BINS - 1)
+            bin_of[axis, j - start] = i
+            count[axis, i] += 1
+            for c in range(3):
+                blo[axis, i, c] = min(blo[axis, i, c], bounds[k, c])
+                bhi[axis, i, c] = max(bhi[axis, i, c], bounds[k, 3 + c])
 
 
 @njit(cache=True)
-def _costs(count, blo, bhi, parent):
-    """The SAH cost of splitting after each of the first BINS - 1 bins."""
-    left_n = np.cumsum(count)[:-1]
-    right_n = np.cumsum(count[::-1])[::-1][1:]
-    cost = np.empty(BINS - 1)
-    llo, lhi = np.full(3, np.inf), np.full(3, -np.inf)
-    left_a = np.empty(BINS - 1)
-    for s in range(BINS - 1):
-        for c in range(3):
-            llo[c], lhi[c] = min(llo[c], blo[s, c]), max(lhi[c], bhi[s, c])
-        left_a[s] = _area(llo[0], llo[1], llo[2], lhi[0], lhi[1], lhi[2])
-    rlo, rhi = np.full(3, np.inf), np.full(3, -np.inf)
+def _costs(count, blo, bhi, parent, cost):
+    """cost[s]: the SAH cost of splitting after bin s, s < BINS - 1 (a row of
+    the arrays _bins fills)."""
+    lx, ly, lz, hx, hy, hz = np.inf, np.inf, np.inf, -np.inf, -np.inf, -np.inf
+    left_n = 0
+    for s in range(BINS - 1):           # the left side's area, kept in cost
+        lx, ly, lz = min(lx, blo[s, 0]), min(ly, blo[s, 1]), min(lz, blo[s, 2])
+        hx, hy, hz = max(hx, bhi[s, 0]), max(hy, bhi[s, 1]), max(hz, bhi[s, 2])
+        cost[s] = _area(lx, ly, lz, hx, hy, hz)
+    total = 0
+    for s in range(BINS):
+        total += count[s]
+    lx, ly, lz, hx, hy, hz = np.inf, np.inf, np.inf, -np.inf, -np.inf, -np.inf
+    right_n = 0
     for s in range(BINS - 1, 0, -1):
-        for c in range(3):
-            rlo[c], rhi[c] = min(rlo[c], blo[s, c]), max(rhi[c], bhi[s, c])
-        right_a = _area(rlo[0], rlo[1], rlo[2], rhi[0], rhi[1], rhi[2])
+        lx, ly, lz = min(lx, blo[s, 0]), min(ly, blo[s, 1]), min(lz, blo[s, 2])
+        hx, hy, hz = max(hx, bhi[s, 0]), max(hy, bhi[s, 1]), max(hz, bhi[s, 2])
+        right_a = _area(lx, ly, lz, hx, hy, hz)
+        right_n += count[s]
         i = s - 1
-        if left_n[i] == 0 or right_n[i] == 0:
+        left_n = total - right_n
+        if left_n == 0 or right_n == 0:
             cost[i] = np.inf
         else:
-            cost[i] = TRAVERSAL_COST + (left_n[i] * left_a[i] + right_n[i] * right_a) / parent
-    return cost
+            cost[i] = TRAVERSAL_COST + (left_n * cost[i] + right_n * right_a) / parent
 
 
 @njit(cache=True)
-def _split(bounds, centroids, ids, start, end, goes_left):
+def _split(bounds, centroids, ids, start, end, goes_left, box, bin_of, count, blo, bhi,
+           cost, c3):
     """Fill goes_left[:n] for the cheapest binned split of ids[start:end];
-    False if a leaf is cheaper."""
+    False if a leaf is cheaper.  box: the objects' bounds (lo, hi), already
+    made; the other arrays are scratch space."""
     n = end - start
-    lo_c, hi_c = np.full(3, np.inf), np.full(3, -np.inf)
-    lo_b, hi_b = np.full(3, np.inf), np.full(3, -np.inf)
+    lo_c, hi_c, extent = c3[0], c3[1], c3[2]
+    lo_c[:], hi_c[:] = np.inf, -np.inf
     for j in range(start, end):
         k = ids[j]
         for c in range(3):
             lo_c[c], hi_c[c] = min(lo_c[c], centroids[k, c]), max(hi_c[c], centroids[k, c])
-            lo_b[c], hi_b[c] = min(lo_b[c], bounds[k, c]), max(hi_b[c], bounds[k, 3 + c])
-    parent = _area(lo_b[0], lo_b[1], lo_b[2], hi_b[0], hi_b[1], hi_b[2])
+    parent = _area(box[0], box[1], box[2], box[3], box[4], box[5])
+    for c in range(3):
+        extent[c] = hi_c[c] - lo_c[c]
+    _bins(bounds, centroids, ids, start, end, lo_c, extent, bin_of, count, blo, bhi)
     best = n * 1.0                     # a leaf's cost, in object tests
     found = False
     for axis in range(3):
-        extent = hi_c[axis] - lo_c[axis]
-        if extent <= 0.0:
+        if extent[axis] <= 0.0:
             continue
-        b, count, blo, bhi = _bins(bounds, centroids, ids, start, end, axis, lo_c[axis],
-                                   extent)
-        cost = _costs(count, blo, bhi, parent)
+        _costs(count[axis], blo[axis], bhi[axis], parent, cost)
         s = np.argmin(cost)
         if cost[s] < best:
             best, found = cost[s], True
             for j in range(n):
-                goes_left[j] = b[j] < s + 1
+                goes_left[j] = bin_of[axis, j] < s + 1
     return found
 
 
@@ -166,6 +173,13 @@ def _build(bounds, ids):
     prims = np.empty(n, dtype=np.int64)
     goes_left = np.empty(n, dtype=np.bool_)
     scratch = np.empty(n, dtype=np.int64)
+    # _split's scratch space, made once: allocating it per node took most of
+    # the build's time (a million triangles make two million nodes).
+    bin_of = np.empty((3, n), dtype=np.int64)
+    count_b = np.empty((3, BINS), dtype=np.int64)
+    blo, bhi = np.empty((3, BINS, 3)), np.empty((3, BINS, 3))
+    cost = np.empty(BINS - 1)
+    c3 = np.empty((3, 3))
     # Depth first, left first: a stack of (start, end, the parent waiting for
     # this node's number as its right child; -1 for a left child or the root).
     stack = np.empty((n + 1, 4), dtype=np.int64)
@@ -178,14 +192,16 @@ def _build(bounds, ids):
         count += 1
         if parent >= 0:
             right[parent] = i
-        for c in range(3):
-            lo, hi = np.inf, -np.inf
-            for j in range(start, end):
-                lo, hi = min(lo, bounds[ids[j], c]), max(hi, bounds[ids[j], 3 + c])
-            box[i, c], box[i, 3 + c] = lo, hi
+        lx, ly, lz, hx, hy, hz = np.inf, np.inf, np.inf, -np.inf, -np.inf, -np.inf
+        for j in range(start, end):
+            k = ids[j]
+            lx, ly, lz = min(lx, bounds[k, 0]), min(ly, bounds[k, 1]), min(lz, bounds[k, 2])
+            hx, hy, hz = max(hx, bounds[k, 3]), max(hy, bounds[k, 4]), max(hz, bounds[k, 5])
+        box[i, 0], box[i, 1], box[i, 2], box[i, 3], box[i, 4], box[i, 5] = lx, ly, lz, hx, hy, hz
         m = end - start
-        split = m > 1 and depth < MEDIAN_FROM_DEPTH and _split(bounds, centroids, ids, start,
-                                                               end, goes_left)
+        split = m > 1 and depth < MEDIAN_FROM_DEPTH and _split(
+            bounds, centroids, ids, start, end, goes_left, box[i], bin_of, count_b, blo, bhi,
+            cost, c3)
         if not split and m > LEAF_SIZE:
             _median_split(centroids, ids, start, end, goes_left)
             split = True

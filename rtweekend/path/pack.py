@@ -168,8 +168,7 @@ class TriangleTables:
     tables (layout.Triangles) their INDEX column points into."""
 
     def __init__(self):
-        self.count, self.uvs, self.any_uvs = 0, [], False
-        self.normals, self.any_normals = [], False
+        self.count, self.uvs, self.normals = 0, [], []
 
     def add(self, shape):
         """The obj_f rows [F, OBJ_FLOATS] of a mesh shape, placed in the world
@@ -182,16 +181,22 @@ class TriangleTables:
         rows = np.zeros((len(faces), OBJ_FLOATS))
         triangle.pack(world[faces[:, 0]], world[faces[:, 1]], world[faces[:, 2]], self.count,
                       rows)
-        self.uvs.append(uvs[faces].reshape(-1, 6) if uvs is not None
-                        else np.zeros((len(faces), 6)))
-        self.any_uvs |= uvs is not None
-        # Vertex normals turn with the mesh (rotate_y is a rotation); a flat
-        # mesh's rows are NaN (triangle.shading_normal).
-        self.normals.append((normals @ rot.T)[faces].reshape(-1, 9) if normals is not None
-                            else np.full((len(faces), 9), np.nan))
-        self.any_normals |= normals is not None
+        # Per triangle, for its three corners; vertex normals turn with the
+        # mesh (rotate_y is a rotation).  None: the mesh has none.
+        self.uvs.append((len(faces), uvs[faces].reshape(-1, 6) if uvs is not None else None))
+        self.normals.append((len(faces), (normals @ rot.T)[faces].reshape(-1, 9)
+                             if normals is not None else None))
         self.count += len(faces)
         return rows
+
+    @staticmethod
+    def _table(parts, columns, missing):
+        """The parts' rows one after the other, `missing` for a mesh without
+        them; [0, columns] if no mesh has any."""
+        if all(rows is None for _, rows in parts):
+            return np.zeros((0, columns))
+        return np.concatenate([rows if rows is not None else np.full((n, columns), missing)
+                               for n, rows in parts])
 
     def arrays(self, obj_i, obj_f, tree, mesh_lights):
         """layout.Triangles, with the 4-wide form of the BVH `tree` (bvh_box,
@@ -199,8 +204,8 @@ class TriangleTables:
         triangle count), or None when the scene has no mesh."""
         if self.count == 0:
             return None
-        uvs = np.concatenate(self.uvs) if self.any_uvs else np.zeros((0, 6))
-        normals = np.concatenate(self.normals) if self.any_normals else np.zeros((0, 9))
+        uvs = self._table(self.uvs, 6, 0.0)
+        normals = self._table(self.normals, 9, np.nan)    # NaN: a flat triangle
         return Triangles(uvs, normals, *mesh_light.pack(obj_f, mesh_lights),
                          *wide_bvh.wide_tables(obj_i, obj_f, *tree))
 
