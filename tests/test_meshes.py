@@ -317,7 +317,7 @@ def test_flip_face_turns_a_one_sided_mesh_light_around():
     ('file = "nowhere.obj"', "file: no such mesh file: "),
     ('file = "text.obj"', "holds no triangles"),
     ('file = "nan.obj"', "file: vertex 0 is not finite: [nan, 0.0, 0.0]"),
-    ('file = "badidx.obj"', "index 8 is out of bounds"),
+    ('file = "badidx.obj"', "face 0 refers to vertex [0, 1, 8], but the mesh has 3 vertices"),
     ('file = "flat.obj"', "none of its 1 triangles has an area"),
     ('file = "ok.obj"\nscale = 0', "scale: must not be 0"),
     ('file = "ok.obj"\nscale = "big"', "scale: "),

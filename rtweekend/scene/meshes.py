@@ -1,5 +1,6 @@
-"""Triangle meshes as plain arrays: read from a file (OBJ, PLY, STL, OFF, glTF/GLB:
-what trimesh reads, the optional `meshes` extra) or given directly, and checked.
+"""Triangle meshes as plain arrays: read from a file (OBJ by obj.py, or what
+trimesh reads, the optional `meshes` extra: OBJ, PLY, STL, OFF, glTF/GLB) or
+given directly, and checked.
 
 A mesh is (vertices float64 [V, 3], faces int64 [F, 3], uvs float64 [V, 2] or
 None, normals float64 [V, 3] unit or None).  Faces with no area (two equal
@@ -13,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import obj
 from ..errors import FieldError
 
 INSTALL = "pip install 'rtweekend[meshes]'"
@@ -20,14 +22,30 @@ INSTALL = "pip install 'rtweekend[meshes]'"
 
 def read(path):
     """(vertices, faces, uvs, normals) of the mesh file at path (FieldError on
-    `file`): uvs and normals None where the file does not give every part's."""
+    `file`): uvs and normals None where the file does not give every part's.
+    An OBJ file is read by obj.py where it can, others by trimesh."""
+    path = Path(path)
+    if not path.is_file():
+        raise FieldError("file", f"no such mesh file: {path}")
+    if path.suffix.lower() == ".obj":
+        try:
+            mesh = obj.read(path)
+        except OSError as e:
+            raise FieldError("file", f"cannot read the mesh {path}: {e}") from None
+        if mesh is not None:
+            if len(mesh[1]) == 0:
+                raise FieldError("file", f"{path} holds no triangles")
+            return mesh
+    return read_with_trimesh(path)
+
+
+def read_with_trimesh(path):
+    """read(), by trimesh for every format."""
     try:
         import trimesh
     except ImportError:
         raise FieldError("file", f"reading mesh files needs trimesh: {INSTALL}") from None
     path = Path(path)
-    if not path.is_file():
-        raise FieldError("file", f"no such mesh file: {path}")
     try:
         # process=False: the file's vertices as they are (their uvs and normals
         # with them).  A scene keeps each part's normals, which a mesh

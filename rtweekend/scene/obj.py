@@ -1,0 +1,274 @@
+"""Wavefront OBJ files, read by compiled code: the common subset, fast.
+
+A million-triangle OBJ is 50 MB of text; trimesh reads it in Python and NumPy
+in about 3 s, which was a fifth of a whole render of it.  This reads the
+lines rtweekend needs -- `v`, `vt`, `vn` and `f` (polygons as fans, corners
+`v`, `v/vt`, `v//vn`, `v/vt/vn`, negative indices counted back from the
+vertices read so far) -- and skips the rest (`o`, `g`, `s`, `usemtl`,
+`mtllib`, `l`, comments).  Anything else -- a line continued with a
+backslash, a word where a number should be (`nan`), a corner of another
+form -- makes it answer None, and the caller reads the file with trimesh
+instead (meshes.read).
+
+Numbers are correctly rounded, as Python's float() rounds them: a decimal of
+at most 15 significant digits is an integer m < 2^53 times 10^e, and with
+|e| <= 22 both are exact doubles, so m x 10^e (or m / 10^-e) is one rounding
+(Clinger's fast path); the few others are handed to float() itself.
+
+A corner that names a texture coordinate or a normal makes a vertex of its
+own for each different (v, vt, vn) it names, as trimesh does; uvs and normals
+are given only when every corner names one.
+"""
+import numpy as np
+from numba import njit
+
+MAX_DIGITS = 15
+MAX_EXP10 = 22
+_POW10 = np.array([10.0 ** i for i in range(MAX_EXP10 + 1)])
+
+# What a line is, by its first word.
+OTHER, V, VT, VN, F = 0, 1, 2, 3, 4
+
+
+@njit(cache=True)
+def _space(c):
+    return c == 32 or c == 9 or c == 13
+
+
+@njit(cache=True)
+def _kind(text, i, n):
+    """(kind, position after the word) of the line that starts at i."""
+    while i < n and _space(text[i]):
+        i += 1
+    if i >= n:
+        return OTHER, i
+    c = text[i]
+    if c == 118:                                        # v
+        nxt = text[i + 1] if i + 1 < n else 10
+        if _space(nxt):
+            return V, i + 1
+        after = text[i + 2] if i + 2 < n else 10
+        if nxt == 116 and _space(after):                # vt
+            return VT, i + 2
+        if nxt == 110 and _space(after):                # vn
+            return VN, i + 2
+    elif c == 102:                                      # f
+        if i + 1 >= n or _space(text[i + 1]):
+            return F, i + 1
+    return OTHER, i
+
+
+@njit(cache=True)
+def _end(text, i, n):
+    while i < n and text[i] != 10:
+        i += 1
+    return i
+
+
+EXACT, HARD, BAD = 0, 1, 2
+
+
+@njit(cache=True)
+def _number(text, i, end, pow10):
+    """(value, start, next position, status) of the decimal number at i
+    (spaces first): EXACT, parsed here; HARD, well formed but beyond the fast
+    path (read() parses it with float()); BAD, not a number ('nan', '1.5x')."""
+    while i < end and _space(text[i]):
+        i += 1
+    start = i
+    negative = False
+    if i < end and (text[i] == 45 or text[i] == 43):
+        negative = text[i] == 45
+        i += 1
+    m = 0
+    digits = 0                      # significant digits (those in m, if few enough)
+    exp10 = 0
+    seen = False
+    fraction = False
+    while i < end:
+        c = text[i]
+        if 48 <= c <= 57:
+            seen = True
+            if m > 0 or c != 48:
+                digits += 1
+                if digits <= MAX_DIGITS:
+                    m = m * 10 + (c - 48)
+                else:
+                    exp10 += 1          # a digit dropped: HARD anyway
+            if fraction:
+                exp10 -= 1
+        elif c == 46 and not fraction:
+            fraction = True
+        else:
+            break
+        i += 1
+    if not seen:
+        return 0.0, start, i, BAD
+    if i < end and (text[i] == 101 or text[i] == 69):
+        i += 1
+        sign = 1
+        if i < end and (text[i] == 45 or text[i] == 43):
+            sign = -1 if text[i] == 45 else 1
+            i += 1
+        if not (i < end and 48 <= text[i] <= 57):
+            return 0.0, start, i, BAD
+        e = 0
+        while i < end and 48 <= text[i] <= 57:
+            e = min(e * 10 + (text[i] - 48), 100000)
+            i += 1
+        exp10 += sign * e
+    if i < end and not _space(text[i]):
+        return 0.0, start, i, BAD
+    if m == 0:
+        value = 0.0
+    elif digits > MAX_DIGITS or exp10 > MAX_EXP10 or -exp10 > MAX_EXP10:
+        return 0.0, start, i, HARD
+    elif exp10 >= 0:
+        value = float(m) * pow10[exp10]
+    else:
+        value = float(m) / pow10[-exp10]
+    return -value if negative else value, start, i, EXACT
+
+
+@njit(cache=True)
+def _index(text, i, end, count):
+    """(0-based index, next position, present) of one index of a corner (after
+    it: '/', a space or the end); count: the items of its kind read so far,
+    which a negative index counts back from."""
+    negative = False
+    if i < end and text[i] == 45:
+        negative = True
+        i += 1
+    k = 0
+    seen = False
+    while i < end and 48 <= text[i] <= 57:
+        k = min(k * 10 + (text[i] - 48), 1 << 40)
+        seen = True
+        i += 1
+    if not seen:
+        return -1, i, False
+    return (count - k) if negative else (k - 1), i, True
+
+
+@njit(cache=True)
+def _corner(text, j, end, nv, nvt, nvn):
+    """((v, vt, vn), next position, ok): one corner of a face, -1 for an
+    index it does not name; ok False if it is not one of the four forms."""
+    a, j, has_a = _index(text, j, end, nv)
+    b, c = -1, -1
+    if j < end and text[j] == 47:
+        b, j, has_b = _index(text, j + 1, end, nvt)
+        if j < end and text[j] == 47:
+            c, j, has_c = _index(text, j + 1, end, nvn)
+            if not has_c:
+                return (a, b, c), j, False
+        elif not has_b:
+            return (a, b, c), j, False            # 'v/' with nothing after
+    ok = has_a and (j >= end or _space(text[j]))
+    return (a, b, c), j, ok
+
+
+@njit(cache=True)
+def _scan(text, pow10, fill, v, vt, vn, corners, hard):
+    """Count (fill False) or read (fill True) the file's lines: (vertices,
+    uvs, normals, triangles, numbers left to float(), ok).  hard[h] = (kind,
+    row, column, start, end) of each number left to float()."""
+    n = text.shape[0]
+    nv = nvt = nvn = nt = nh = 0
+    i = 0
+    while i < n:
+        kind, j = _kind(text, i, n)
+        end = _end(text, j, n)
+        if end > 0 and text[end - 1] == 92:         # a backslash continues the line
+            return nv, nvt, nvn, nt, nh, False
+        if kind == V or kind == VT or kind == VN:
+            width = 2 if kind == VT else 3
+            row = nv if kind == V else (nvt if kind == VT else nvn)
+            for c in range(width):
+                x, start, j, status = _number(text, j, end, pow10)
+                if status == BAD:
+                    return nv, nvt, nvn, nt, nh, False
+                if status == HARD:
+                    if fill:
+                        hard[nh, 0], hard[nh, 1], hard[nh, 2] = kind, row, c
+                        hard[nh, 3], hard[nh, 4] = start, j
+                    nh += 1
+                if fill:
+                    if kind == V:
+                        v[nv, c] = x
+                    elif kind == VT:
+                        vt[nvt, c] = x
+                    else:
+                        vn[nvn, c] = x
+            if kind == V:
+                nv += 1
+            elif kind == VT:
+                nvt += 1
+            else:
+                nvn += 1
+        elif kind == F:
+            first = (-1, -1, -1)
+            last = (-1, -1, -1)
+            m = 0
+            while True:
+                while j < end and _space(text[j]):
+                    j += 1
+                if j >= end:
+                    break
+                corner, j, ok = _corner(text, j, end, nv, nvt, nvn)
+                if not ok:
+                    return nv, nvt, nvn, nt, nh, False
+                if m == 0:
+                    first = corner
+                elif m >= 2:                            # a fan from the first corner
+                    if fill:
+                        for s in range(3):
+                            corners[nt, 0, s] = first[s]
+                            corners[nt, 1, s] = last[s]
+                            corners[nt, 2, s] = corner[s]
+                    nt += 1
+                last = corner
+                m += 1
+        i = end + 1
+    return nv, nvt, nvn, nt, nh, True
+
+
+def read(path):
+    """(vertices, faces, uvs, normals) of the OBJ file at path, as
+    meshes.read gives them; None if it holds what this reader does not read
+    exactly (the caller then uses trimesh)."""
+    text = np.fromfile(path, dtype=np.uint8)
+    if text[:3].tobytes() == b"\xef\xbb\xbf":        # a UTF-8 byte order mark
+        text = text[3:]
+    nv, nvt, nvn, nt, nh, ok = _scan(text, _POW10, False, np.zeros((0, 3)), np.zeros((0, 2)),
+                                     np.zeros((0, 3)), np.zeros((0, 3, 3), dtype=np.int64),
+                                     np.zeros((0, 5), dtype=np.int64))
+    if not ok:
+        return None
+    v, vt, vn = np.empty((nv, 3)), np.empty((nvt, 2)), np.empty((nvn, 3))
+    corners = np.empty((nt, 3, 3), dtype=np.int64)
+    hard = np.empty((nh, 5), dtype=np.int64)
+    _scan(text, _POW10, True, v, vt, vn, corners, hard)
+    tables = {V: v, VT: vt, VN: vn}
+    for kind, row, column, start, end in hard:      # beyond the fast path: float()
+        tables[kind][row, column] = float(text[start:end].tobytes())
+    vi, ti, ni = corners[:, :, 0], corners[:, :, 1], corners[:, :, 2]
+    # Indices out of range are left for meshes.check to name; a corner's uv or
+    # normal counts only if every corner has one and all are in range.
+    has_uv = nt > 0 and (ti >= 0).all() and (ti < nvt).all()
+    has_n = nt > 0 and (ni >= 0).all() and (ni < nvn).all()
+    if not has_uv and not has_n:
+        return v, vi, None, None
+    if (vi < 0).any() or (vi >= nv).any() or nv * max(nvt, 1) * max(nvn, 1) >= 2 ** 62:
+        return None                 # let trimesh read (or reject) it
+    # A vertex for each different (v, vt, vn) the corners name.
+    key = vi.ravel()
+    if has_uv:
+        key = key * nvt + ti.ravel()
+    if has_n:
+        key = key * nvn + ni.ravel()
+    _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+    corner_v = vi.ravel()[first]
+    uvs = vt[ti.ravel()[first]] if has_uv else None
+    normals = vn[ni.ravel()[first]] if has_n else None
+    return v[corner_v], inverse.reshape(nt, 3).astype(np.int64), uvs, normals

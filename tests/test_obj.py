@@ -1,0 +1,127 @@
+"""The compiled OBJ reader (scene/obj.py) against trimesh: the same
+triangles, texture coordinates and normals, numbers parsed exactly as
+Python's float() parses them, and trimesh's turn for what it does not read."""
+import math
+
+import numpy as np
+import pytest
+
+from rtweekend.scene import meshes, obj
+
+from test_meshes import sphere_mesh
+
+
+def _corners(mesh):
+    """Each triangle's corners (x, y, z[, u, v][, nx, ny, nz]) turned to start
+    at its smallest (the winding kept), the triangles sorted: a form that
+    depends neither on how vertices are shared nor on which corner a
+    polygon's triangles start from (trimesh starts a quad's second at its
+    third corner)."""
+    v, f, uv, n = mesh
+    parts = [v[f]]
+    if uv is not None:
+        parts.append(uv[f])
+    if n is not None:
+        parts.append(n[f])
+    corners = np.concatenate(parts, axis=2)                 # [F, 3, columns]
+    rows = []
+    for tri in corners:
+        first = min(range(3), key=lambda i: tuple(tri[i]))
+        rows.append(np.roll(tri, -first, axis=0).ravel())
+    rows = np.array(rows)
+    return rows[np.lexsort(rows.T[::-1])]
+
+
+def _same_as_trimesh(path):
+    pytest.importorskip("trimesh", reason="needs the meshes extra")
+    ours, theirs = obj.read(path), meshes.read_with_trimesh(path)
+    assert ours is not None
+    for a, b in zip(ours[2:], theirs[2:]):
+        assert (a is None) == (b is None)
+    np.testing.assert_array_equal(_corners(ours), _corners(theirs))
+    return ours
+
+
+def test_positions_faces_uvs_and_normals_are_trimeshs(tmp_path):
+    v, f = sphere_mesh(9, 17, radius=1.7, center=(0.1, -2.0, 3.0))
+    rng = np.random.default_rng(1)
+    uv = rng.random((len(v), 2))
+    n = v / np.linalg.norm(v, axis=1, keepdims=True)
+    lines = ["# a sphere", "mtllib none.mtl", "o ball", "g part"]
+    lines += [f"v {x:.9g} {y:.6f} {z:.12e}" for x, y, z in v]
+    lines += [f"vt {a:.7f} {b:.7f}" for a, b in uv]
+    lines += [f"vn {a:.6f} {b:.6f} {c:.6f}" for a, b, c in n]
+    lines += ["usemtl shiny", "s 1"]
+    lines += ["f " + " ".join(f"{i + 1}/{i + 1}/{i + 1}" for i in face) for face in f]
+    (tmp_path / "full.obj").write_text("\n".join(lines) + "\n")
+    _same_as_trimesh(tmp_path / "full.obj")
+    # Positions only, CRLF line ends, a quad and a pentagon (fans).
+    text = ("v 0 0 0\r\nv 1 0 0\r\nv 1 1 0\r\nv 0 1 0\r\nv -0.5 0.5 0\r\n"
+            "f 1 2 3 4\r\nf 1 4 5\r\nf 1 2 3 4 5\r\n")
+    (tmp_path / "poly.obj").write_text(text)
+    v, f, uv, n = _same_as_trimesh(tmp_path / "poly.obj")
+    assert len(f) == 2 + 1 + 3 and uv is None and n is None
+
+
+def test_corners_that_name_different_normals_make_vertices_of_their_own(tmp_path):
+    # A hard edge: the two faces share positions but not normals.
+    text = ("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0.5\nvn 0 0 1\nvn 0 -0.5 1\n"
+            "f 1//1 2//1 3//1\nf 2//2 4//2 3//2\n")
+    (tmp_path / "crease.obj").write_text(text)
+    v, f, uv, n = _same_as_trimesh(tmp_path / "crease.obj")
+    assert len(v) == 6 and uv is None
+    # Negative indices count back from the vertices read so far, as the format
+    # says; 'v/vt' corners.
+    text = ("v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf -3/-3 -2/-2 -1/-1\n"
+            "v 5 0 0\nv 6 0 0\nv 5 1 0\nf -3/1 -2/2 -1/3\n")
+    (tmp_path / "relative.obj").write_text(text)
+    v, f, uv, n = obj.read(tmp_path / "relative.obj")
+    np.testing.assert_array_equal(v[f], [[[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+                                         [[5, 0, 0], [6, 0, 0], [5, 1, 0]]])
+    np.testing.assert_array_equal(uv[f], [[[0, 0], [1, 0], [0, 1]]] * 2)
+
+
+def test_numbers_are_parsed_as_python_parses_them(tmp_path):
+    rng = np.random.default_rng(7)
+    x = np.concatenate([rng.normal(size=3000) * 10.0 ** rng.integers(-12, 12, 3000),
+                        [0.1, 0.2, 0.3, 1e-22, 9.999999999999999e22, 123456789012345.0]])
+    words = [f"{a:.{int(p)}g}" for a, p in zip(x, rng.integers(1, 16, len(x)))]
+    words += ["-0.0", "+5", "5.", ".5", "1E3", "-2.5e-3", "0.000000", "007.50",
+              "0.12345678901234567", "1e300", "-4.9e-324", "123456789012345678901234"]
+    words += [f"{a:.6f}" for a in x[:200]]
+    words = words[: len(words) // 3 * 3]
+    lines = [f"v {a} {b} {c}" for a, b, c in zip(*[iter(words)] * 3)]
+    (tmp_path / "numbers.obj").write_text("\n".join(lines) + "\nf 1 2 3\n")
+    v, f, _, _ = obj.read(tmp_path / "numbers.obj")
+    expect = np.array([float(w) for w in words]).reshape(-1, 3)
+    assert np.array_equal(v.view(np.int64), expect.view(np.int64))   # -0.0 too
+    assert math.copysign(1.0, v.ravel()[words.index("-0.0")]) == -1.0
+
+
+@pytest.mark.parametrize("text", [
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 \\\n3\n",                       # continued line
+    "v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    "v 1.5x 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
+    "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/ 2/ 3/\n",
+    "vt 0.5\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",                     # a 1-D texture
+])
+def test_what_it_cannot_read_exactly_is_left_to_trimesh(tmp_path, text):
+    (tmp_path / "odd.obj").write_text(text)
+    assert obj.read(tmp_path / "odd.obj") is None
+
+
+def test_an_obj_file_is_read_without_trimesh(tmp_path, monkeypatch):
+    import builtins
+    real = builtins.__import__
+
+    def no_trimesh(name, *args, **kwargs):
+        if name == "trimesh" or name.startswith("trimesh."):
+            raise ImportError(name)
+        return real(name, *args, **kwargs)
+    monkeypatch.setattr(builtins, "__import__", no_trimesh)
+    (tmp_path / "tri.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    v, f, _, _ = meshes.read(tmp_path / "tri.obj")
+    assert f.tolist() == [[0, 1, 2]]
+    (tmp_path / "tri.ply").write_text("ply\n")
+    with pytest.raises(Exception, match="needs trimesh"):
+        meshes.read(tmp_path / "tri.ply")
