@@ -36,17 +36,37 @@ MEDIAN_FROM_DEPTH = 64
 
 def object_bounds(obj_i, obj_f):
     """[N, 6] boxes around the objects (zero-thickness rects padded a hair)."""
-    lo = np.empty((len(obj_i), 3))
-    hi = np.empty((len(obj_i), 3))
+    out = np.empty((len(obj_i), 6))
     tri = obj_i[:, OBJ_KIND] == TRIANGLE
-    if tri.any():                     # a mesh's triangles, all at once
-        corners = obj_f[tri, triangle.P0:triangle.P2 + 3].reshape(-1, 3, 3)
-        lo[tri], hi[tri] = corners.min(axis=1), corners.max(axis=1)
+    _triangle_bounds(obj_f, np.flatnonzero(tri), out)     # a mesh's, compiled
     for k in np.flatnonzero(~tri):
-        lo[k], hi[k] = shapes.bounds(obj_i[k, OBJ_KIND], obj_f[k])
-    pad = 1e-9 * np.maximum(np.abs(lo).max(axis=1, initial=1.0),
-                            np.abs(hi).max(axis=1, initial=1.0))[:, None]
-    return np.hstack([lo - pad, hi + pad])
+        lo, hi = shapes.bounds(obj_i[k, OBJ_KIND], obj_f[k])
+        out[k, :3], out[k, 3:] = lo, hi
+        _pad(out, k)
+    return out
+
+
+@njit(cache=True)
+def _pad(out, k):
+    """Widen box k by 1e-9 of its largest coordinate (at least 1e-9)."""
+    big = 1.0
+    for c in range(6):
+        big = max(big, abs(out[k, c]))
+    pad = 1e-9 * big
+    for c in range(3):
+        out[k, c] -= pad
+        out[k, 3 + c] += pad
+
+
+@njit(cache=True)
+def _triangle_bounds(obj_f, rows, out):
+    for k in rows:
+        for c in range(3):
+            a, b, d = obj_f[k, triangle.P0 + c], obj_f[k, triangle.P1 + c], \
+                obj_f[k, triangle.P2 + c]
+            out[k, c] = min(min(a, b), d)
+            out[k, 3 + c] = max(max(a, b), d)
+        _pad(out, k)
 
 
 def build_bvh(obj_i, obj_f, ids=None):

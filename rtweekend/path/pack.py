@@ -10,7 +10,7 @@ from ..errors import SceneError
 from ..scene.fields import SKY
 from . import bvh as hierarchy, mesh_light, wide_bvh
 from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS,
-                     MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_MAT, PRIMITIVE_KINDS, RECT,
+                     MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, OBJ_MAT, PRIMITIVE_KINDS, RECT,
                      SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles)
 from .shapes import axis_rect, box, rect, sphere, triangle
 from .lights import pack_lights
@@ -124,26 +124,30 @@ def pack_scene(scene, bvh=None):
     if scene.resolved_integrator() != "path":
         raise SceneError("this scene is rendered by the classic integrator")
     materials, mat_index = scene_materials(scene)
-    obj_i, obj_f, first, count = [], [], {}, 0
+    # Every primitive's rows, written in place (a mesh's millions by compiled
+    # code: no list of rows, no copy).
+    total = sum(shape.primitives for shape in scene.objects)
+    obj_i = np.zeros((total, OBJ_INTS), dtype=np.int64)
+    obj_f = np.zeros((total, OBJ_FLOATS))
+    first, count = {}, 0
     tris = TriangleTables()
     for shape in scene.objects:
-        m = mat_index[id(shape.material)]
         first[id(shape)] = count
         if shape.kind == "mesh":
-            rows = tris.add(shape)
-            kinds = np.full(len(rows), TRIANGLE)
+            n = tris.add(shape, obj_f[count:count + shape.primitives])
+            obj_i[count:count + n, OBJ_KIND] = TRIANGLE
         else:
             kinds, rows = zip(*primitives(shape))
             assert set(kinds) <= set(PRIMITIVE_KINDS)   # the kernels' dispatch knows no other
-        obj_i.append(np.column_stack([kinds, np.full(len(rows), m)]))
-        obj_f.append(np.asarray(rows).reshape(-1, OBJ_FLOATS))
-        count += len(rows)
+            n = len(rows)
+            obj_i[count:count + n, OBJ_KIND] = kinds
+            obj_f[count:count + n] = np.asarray(rows).reshape(-1, OBJ_FLOATS)
+        obj_i[count:count + n, OBJ_MAT] = mat_index[id(shape.material)]
+        count += n
     mat_i = np.array([MATERIAL_TAGS[mt.kind] for mt in materials], dtype=np.int64)
     mat_f = np.array([(*mt.color, mt.param) for mt in materials], dtype=np.float64)
     lights = np.array([first[id(s)] for s in scene.lights], dtype=np.int64)
     bg_kind, bg = pack_background(scene.resolved_background())
-    obj_i = np.concatenate(obj_i or [np.zeros((0, OBJ_INTS))]).astype(np.int64)
-    obj_f = np.concatenate(obj_f or [np.zeros((0, OBJ_FLOATS))]).astype(np.float64)
     surfaces = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] != ISOTROPIC)
     ids = None if len(surfaces) == len(obj_i) else surfaces
     if bvh is None:
@@ -170,24 +174,23 @@ class TriangleTables:
     def __init__(self):
         self.count, self.uvs, self.normals = 0, [], []
 
-    def add(self, shape):
-        """The obj_f rows [F, OBJ_FLOATS] of a mesh shape, placed in the world
-        (its flip_face reverses the winding: the other side is the front)."""
+    def add(self, shape, rows):
+        """Write the obj_f rows [F, OBJ_FLOATS] of a mesh shape into rows,
+        placed in the world (its flip_face reverses the winding: the other side
+        is the front); returns F."""
         vertices, faces, uvs, normals = shape.geometry
         rot, offset = shape.placement()
         world = vertices @ rot.T + offset
         if shape.flipped:
             faces = faces[:, ::-1]
-        rows = np.zeros((len(faces), OBJ_FLOATS))
-        triangle.pack(world[faces[:, 0]], world[faces[:, 1]], world[faces[:, 2]], self.count,
-                      rows)
+        triangle.pack(world, np.ascontiguousarray(faces), self.count, rows)
         # Per triangle, for its three corners; vertex normals turn with the
         # mesh (rotate_y is a rotation).  None: the mesh has none.
         self.uvs.append((len(faces), uvs[faces].reshape(-1, 6) if uvs is not None else None))
         self.normals.append((len(faces), (normals @ rot.T)[faces].reshape(-1, 9)
                              if normals is not None else None))
         self.count += len(faces)
-        return rows
+        return len(faces)
 
     @staticmethod
     def _table(parts, columns, missing):
