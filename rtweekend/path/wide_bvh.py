@@ -70,12 +70,24 @@ def wide_tables(obj_i, obj_f, bvh_box, bvh_node, bvh_prims):
         wide_child[0, 0] = -1 - len(bvh_prims)      # first 0, count: all
     else:
         wide_box, wide_child = _collapse(bvh_box, bvh_node, MERGE)
-    kind = obj_i[bvh_prims, OBJ_KIND]
-    tri = kind == TRIANGLE
-    leaf_prim = np.where(tri, bvh_prims, -1 - bvh_prims).astype(np.int64)
-    leaf_tri = np.full((len(bvh_prims), 9), np.nan)
-    leaf_tri[tri] = obj_f[bvh_prims[tri], triangle.P0:triangle.P2 + 3]
+    leaf_prim = np.empty(len(bvh_prims), dtype=np.int64)
+    leaf_tri = np.empty((len(bvh_prims), 9))
+    _leaves(obj_i, obj_f, bvh_prims, leaf_prim, leaf_tri)
     return wide_box, wide_child, leaf_prim, leaf_tri
+
+
+@njit(cache=True)
+def _leaves(obj_i, obj_f, prims, leaf_prim, leaf_tri):
+    """leaf_prim and leaf_tri (NaN but for triangles) in the leaves' order."""
+    for j in range(prims.shape[0]):
+        k = prims[j]
+        if obj_i[k, OBJ_KIND] == TRIANGLE:
+            leaf_prim[j] = k
+            for c in range(9):
+                leaf_tri[j, c] = obj_f[k, triangle.P0 + c]
+        else:
+            leaf_prim[j] = -1 - k
+            leaf_tri[j, :] = np.nan
 
 
 @njit(cache=True)
