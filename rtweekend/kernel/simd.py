@@ -1,16 +1,18 @@
-"""Four slab tests at once: what a 4-wide BVH node asks of every ray, as
-vector code (LLVM's <4 x double>).
+"""Four at once: the slab tests of a 4-wide BVH node's children, and the
+watertight test of a leaf's four triangles, as vector code (LLVM's
+<4 x double>).
 
-Numba compiles scalar code, and leaves LLVM's SLP vectoriser off, so the four
-children's box tests of a wide node (wide_bvh.py) ran one after the other; as
-one vector operation each (6 loads, 6 subtractions, 6 multiplications, 5
-max/min, 2 compares) they take a node visit from about 90 cycles to about 70
-(benchmarks/meshes.py, docs/performance.md).
+Numba compiles scalar code, and leaves LLVM's SLP vectoriser off, so a wide
+node's four box tests (wide_bvh.py) ran one after the other; as vector
+operations a node visit costs about a fifth less, and a leaf's triangles
+tested together make incoherent rays 1.2x as fast again (benchmarks/meshes.py,
+docs/performance.md).
 
-The arithmetic is the scalar test's, lane by lane and in the same order, with
+The arithmetic is the scalar code's, lane by lane and in the same order --
 Numba's own max and min (max(p, q) = q if q > p else p, so a NaN from 0 x inf
-takes the other operand): the same children are entered, and the same hits
-found, as by the scalar code, bit for bit.
+takes the other operand), shapes/triangle.py's edge functions, determinant
+and scaled distance -- so the same children are entered, and the same hits
+found, as by the scalar code, bit for bit (tests/test_simd.py).
 """
 import math
 
@@ -79,3 +81,72 @@ def slab4(typingctx, box, node, rows, o, inv_d, t_max):
                 result, builder.extract_element(t, ir.Constant(_I32, i)), i)
         return result
     return out(box, node, rows, o, inv_d, t_max), codegen
+
+
+@intrinsic
+def watertight4(typingctx, tri, block, o, frame):
+    """(det_0..3, t_scaled_0..3): shapes/triangle.py's watertight test of the
+    four triangles of `block` in tri (float64 [B, 9, 4], C-contiguous: row r
+    of a block is coordinate r of P0, P1, P2 for its four triangles) for the
+    ray from o in frame (triangle.ray_frame: kx, ky, kz, sx, sy, sz); det is
+    0 where the edge functions' signs say miss.  What is left -- the distance
+    against t_max, t = t_scaled / det -- the caller does per triangle, in
+    order, as hit_in_frame does."""
+    f64, i64 = types.float64, types.int64
+    if not (isinstance(tri, types.Array) and tri.ndim == 3 and tri.layout == "C"
+            and tri.dtype == f64 and o == types.UniTuple(f64, 3)
+            and frame == types.Tuple((i64, i64, i64, f64, f64, f64))):
+        return None
+    out = types.UniTuple(f64, 2 * LANES)
+
+    def codegen(context, builder, signature, args):
+        tri_v, block_v, o_v, frame_v = args
+        data = context.make_array(signature.args[0])(context, builder, tri_v).data
+        first = builder.mul(block_v, ir.Constant(block_v.type, 9 * LANES))
+        kx, ky, kz = (builder.extract_value(frame_v, i) for i in range(3))
+        sx, sy, sz = (_splat(builder, builder.extract_value(frame_v, i)) for i in range(3, 6))
+        o3 = [builder.extract_value(o_v, i) for i in range(3)]
+
+        def axis(k):                            # o's component k, splat
+            zero, two = ir.Constant(k.type, 0), ir.Constant(k.type, 2)
+            c = builder.select(builder.icmp_signed("==", k, zero), o3[0], o3[1])
+            return _splat(builder, builder.select(builder.icmp_signed("==", k, two), o3[2], c))
+        okx, oky, okz = axis(kx), axis(ky), axis(kz)
+
+        def coordinate(vertex, k):              # P_vertex's coordinate k, four triangles
+            r = builder.add(ir.Constant(k.type, 3 * vertex), k)
+            at = builder.add(first, builder.mul(r, ir.Constant(k.type, LANES)))
+            return builder.load(builder.bitcast(builder.gep(data, [at]), _V.as_pointer()),
+                                align=8)
+
+        def sheared(vertex):                    # (x, y, z) of P - o in the ray's frame
+            px = builder.fsub(coordinate(vertex, kx), okx)
+            py = builder.fsub(coordinate(vertex, ky), oky)
+            pz = builder.fsub(coordinate(vertex, kz), okz)
+            return (builder.fsub(px, builder.fmul(sx, pz)),
+                    builder.fsub(py, builder.fmul(sy, pz)), pz)
+        ax, ay, az = sheared(0)
+        bx, by, bz = sheared(1)
+        cx, cy, cz = sheared(2)
+        u = builder.fsub(builder.fmul(cx, by), builder.fmul(cy, bx))
+        v = builder.fsub(builder.fmul(ax, cy), builder.fmul(ay, cx))
+        w = builder.fsub(builder.fmul(bx, ay), builder.fmul(by, ax))
+        zero = ir.Constant(_V, [0.0] * LANES)
+
+        def any_of(op, a, b, c):
+            return builder.or_(builder.or_(builder.fcmp_ordered(op, a, zero),
+                                           builder.fcmp_ordered(op, b, zero)),
+                               builder.fcmp_ordered(op, c, zero))
+        outside = builder.and_(any_of("<", u, v, w), any_of(">", u, v, w))
+        det = builder.select(outside, zero, builder.fadd(builder.fadd(u, v), w))
+        t_scaled = builder.fadd(builder.fadd(builder.fmul(builder.fmul(u, sz), az),
+                                             builder.fmul(builder.fmul(v, sz), bz)),
+                                builder.fmul(builder.fmul(w, sz), cz))
+        result = cgutils.get_null_value(context.get_value_type(out))
+        for i in range(LANES):
+            lane = ir.Constant(_I32, i)
+            result = builder.insert_value(result, builder.extract_element(det, lane), i)
+            result = builder.insert_value(result, builder.extract_element(t_scaled, lane),
+                                          LANES + i)
+        return result
+    return out(tri, block, o, frame), codegen

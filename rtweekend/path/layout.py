@@ -105,8 +105,8 @@ class Triangles(NamedTuple):
     group_area: np.ndarray  # float64 [G]: their areas
     wide_box: np.ndarray   # float64 [W, 6, 4]: each node's children's boxes
     wide_child: np.ndarray  # int64 [W, 4]: a wide node, or a leaf (first, count)
-    leaf_prim: np.ndarray  # int64 [P]: the leaves' objects (-1 - k: not a triangle)
-    leaf_tri: np.ndarray   # float64 [P, 9]: their triangles' vertices, in leaf order
+    leaf_prim: np.ndarray  # int64 [4 B]: the leaves' objects (-1 - k: not a triangle)
+    leaf_tri: np.ndarray   # float64 [B, 9, 4]: their triangles' vertices, four a block
 
 
 class PathParams(NamedTuple):

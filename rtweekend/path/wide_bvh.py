@@ -22,12 +22,19 @@ Nodes are numbered depth first.
 
     wide_box[w, r, c]  row r (min x, y, z, max x, y, z) of child c's box;
                        an unused child has the empty box (min inf, max -inf)
-    wide_child[w, c]   >= 0: the wide node it is; < 0: a leaf, -1 - (first << 32 | count)
-    leaf_prim[j]       the object bvh_prims[j] is: k for a triangle, -1 - k for another kind
-    leaf_tri[j]        a triangle's P0, P1, P2 (shapes/triangle.py's columns 0:9)
+    wide_child[w, c]   >= 0: the wide node it is; < 0: a leaf, -1 - (block << 32 | count):
+                       its count objects are lanes 0.. of blocks block, block + 1, ...
+    leaf_prim[4 b + q] the object in lane q of block b: k for a triangle, -1 - k for
+                       another kind (NO_HIT: no object)
+    leaf_tri[b, r, q]  coordinate r of P0, P1, P2 (shapes/triangle.py's columns 0:9)
+                       of lane q's triangle (NaN: not a triangle): the four of a
+                       block side by side, tested at once (simd.watertight4)
+
+A leaf holds at most 4 objects (bvh_build.LEAF_SIZE, MERGE): one block.
 
 A scene without a hierarchy (bvh=False, or few objects) gets one node whose
-one child, with an infinite box, is a leaf of every object.
+one child, with an infinite box, is a leaf of every object (as many blocks
+as it takes).
 
 Which hit is nearest depends neither on the tree nor on the order of the
 walk (tests/test_hittables.py: the same objects and distances, bit for bit,
@@ -70,24 +77,46 @@ def wide_tables(obj_i, obj_f, bvh_box, bvh_node, bvh_prims):
         wide_child[0, 0] = -1 - len(bvh_prims)      # first 0, count: all
     else:
         wide_box, wide_child = _collapse(bvh_box, bvh_node, MERGE)
-    leaf_prim = np.empty(len(bvh_prims), dtype=np.int64)
-    leaf_tri = np.empty((len(bvh_prims), 9))
-    _leaves(obj_i, obj_f, bvh_prims, leaf_prim, leaf_tri)
+    blocks = _count_blocks(wide_child)
+    leaf_prim = np.full(blocks * WIDTH, NO_HIT, dtype=np.int64)
+    leaf_tri = np.full((blocks, 9, WIDTH), np.nan)
+    _blocks(obj_i, obj_f, bvh_prims, wide_child, leaf_prim, leaf_tri)
     return wide_box, wide_child, leaf_prim, leaf_tri
 
 
 @njit(cache=True)
-def _leaves(obj_i, obj_f, prims, leaf_prim, leaf_tri):
-    """leaf_prim and leaf_tri (NaN but for triangles) in the leaves' order."""
-    for j in range(prims.shape[0]):
-        k = prims[j]
-        if obj_i[k, OBJ_KIND] == TRIANGLE:
-            leaf_prim[j] = k
-            for c in range(9):
-                leaf_tri[j, c] = obj_f[k, triangle.P0 + c]
-        else:
-            leaf_prim[j] = -1 - k
-            leaf_tri[j, :] = np.nan
+def _count_blocks(wide_child):
+    blocks = 0
+    for w in range(wide_child.shape[0]):
+        for c in range(WIDTH):
+            if wide_child[w, c] < 0:
+                blocks += (((-1 - wide_child[w, c]) & COUNT_MASK) + WIDTH - 1) // WIDTH
+    return blocks
+
+
+@njit(cache=True)
+def _blocks(obj_i, obj_f, prims, wide_child, leaf_prim, leaf_tri):
+    """The leaves' objects into blocks, in the order of the nodes that hold
+    them; each leaf's code turned from (first object, count) to (first
+    block, count)."""
+    b = 0
+    for w in range(wide_child.shape[0]):
+        for c in range(WIDTH):
+            code = wide_child[w, c]
+            if code >= 0:
+                continue
+            first, count = (-1 - code) >> COUNT_BITS, (-1 - code) & COUNT_MASK
+            for j in range(count):
+                k = prims[first + j]
+                lane = b * WIDTH + j
+                if obj_i[k, OBJ_KIND] == TRIANGLE:
+                    leaf_prim[lane] = k
+                    for r in range(9):
+                        leaf_tri[lane // WIDTH, r, lane % WIDTH] = obj_f[k, triangle.P0 + r]
+                else:
+                    leaf_prim[lane] = -1 - k
+            wide_child[w, c] = -1 - ((b << COUNT_BITS) | count)
+            b += (count + WIDTH - 1) // WIDTH
 
 
 @njit(cache=True)
@@ -202,13 +231,20 @@ def walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
                 node = hit_c[0]
                 continue
         else:
+            # A leaf: its triangles four at a time, then in order, as one by
+            # one (triangle.within); its other objects by their own test.
             leaf = -1 - node
-            first = leaf >> COUNT_BITS
-            for j in range(first, first + (leaf & COUNT_MASK)):
+            first, count = (leaf >> COUNT_BITS) * WIDTH, leaf & COUNT_MASK
+            tests = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+            for j in range(first, first + count):
+                q = j % WIDTH
+                if q == 0:
+                    tests = simd.watertight4(leaf_tri, j // WIDTH, o, frame)
                 k = leaf_prim[j]
                 if k >= 0:
-                    t = like(t_max, INF) if k == from_obj else triangle.hit_in_frame(
-                        leaf_tri, j, o, frame, t_max)[0]
+                    t = like(t_max, INF)
+                    if k != from_obj and triangle.within(tests[q], tests[WIDTH + q], t_max):
+                        t = tests[WIDTH + q] * (1.0 / tests[q])
                 else:
                     k = (-1 - k) & NON_NEGATIVE
                     t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time)
@@ -263,13 +299,17 @@ def solid_angle_sum(tris, obj_f, o, d, first, count, from_obj):
                 c += 1
             continue
         leaf = -1 - node
-        start = leaf >> COUNT_BITS
+        start = (leaf >> COUNT_BITS) * WIDTH
+        tests = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
         for j in range(start, start + (leaf & COUNT_MASK)):
+            q = j % WIDTH
+            if q == 0:
+                tests = simd.watertight4(leaf_tri, j // WIDTH, o, frame)
             k = leaf_prim[j]
             if k < first or k >= first + count or k == from_obj:
                 continue                    # another object (or not a triangle: < 0)
-            t = triangle.hit_in_frame(leaf_tri, j, o, frame, INF)[0]
-            if t < INF:
+            if triangle.within(tests[q], tests[WIDTH + q], INF):
+                t = tests[WIDTH + q] * (1.0 / tests[q])
                 cosine = abs(d[0] * obj_f[k, triangle.N] + d[1] * obj_f[k, triangle.N + 1] +
                              d[2] * obj_f[k, triangle.N + 2])
                 if cosine > 0.0:

@@ -142,16 +142,23 @@ def hit_in_frame(rows, k, o, frame, t_max):
     if (u < 0.0 or v < 0.0 or w < 0.0) and (u > 0.0 or v > 0.0 or w > 0.0):
         return miss
     det = u + v + w
-    if det == 0.0:
-        return miss                  # seen edge-on
     t_scaled = u * sz * _axis(a, kz) + v * sz * _axis(b, kz) + w * sz * _axis(c, kz)
-    if det > 0.0:
-        if t_scaled <= 0.0 or t_scaled >= t_max * det:
-            return miss
-    elif t_scaled >= 0.0 or t_scaled <= t_max * det:
+    if not within(det, t_scaled, t_max):
         return miss
     inv = 1.0 / det
     return t_scaled * inv, u * inv, v * inv, w * inv
+
+
+@jit_step
+def within(det, t_scaled, t_max):
+    """Is the hit of determinant det (0: seen edge-on, or outside the edges)
+    and scaled distance t_scaled in (0, t_max)?  (Its distance is then
+    t_scaled x (1 / det), which the caller makes.)"""
+    if det > 0.0:
+        return t_scaled > 0.0 and t_scaled < t_max * det
+    if det < 0.0:
+        return t_scaled < 0.0 and t_scaled > t_max * det
+    return False
 
 
 @jit_step
