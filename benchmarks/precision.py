@@ -29,6 +29,7 @@ from rtweekend.kernel import rng
 from rtweekend.kernel.vec3 import madd
 from rtweekend.path import shapes
 from rtweekend.path.bvh import closest_hit
+from rtweekend.path.bvh_build import build_bvh
 from rtweekend.path.camera import get_ray
 from rtweekend.path.layout import NO_HIT
 from rtweekend.path.materials import lambertian
@@ -83,8 +84,13 @@ def rays_for(scene, width, height, seed):
 
 def arguments(a, dtype, orig, dirs, from_obj):
     """nearest()'s arguments in one precision: the geometry the search reads,
-    the rays, and its starting t_max."""
+    the rays, and its starting t_max.  A scene with a hierarchy is searched by
+    the binary tree's stackless walk, which runs in either precision (the
+    renderer walks the tree 4-wide, with double-precision vector code)."""
     c = dtype
+    if a.wide is not None:
+        box, node, prims = build_bvh(a.obj_i, a.obj_f, np.sort(a.bvh_prims))
+        a = a._replace(wide=None, bvh_box=box, bvh_node=node, bvh_prims=prims)
     scene = a._replace(obj_f=a.obj_f.astype(c), bvh_box=a.bvh_box.astype(c))
     return (scene, orig.astype(c), dirs.astype(c), from_obj, c(np.inf),
             np.empty(len(orig), np.int64))
@@ -96,7 +102,7 @@ def measure(name, shrink, runs):
     width, height = scene.camera.width // shrink, scene.camera.height // shrink
     a, orig, dirs, from_obj = rays_for(scene, width, height, seed=1)
     out = dict(scene=name, width=width, height=height, rays=len(orig),
-               bvh=bool(len(a.bvh_node)))
+               bvh=a.wide is not None)
     dtypes = (np.float64, np.float32)
     args = {c: arguments(a, c, orig, dirs, from_obj) for c in dtypes}
     times = {c: [] for c in dtypes}

@@ -98,7 +98,7 @@ def one_scene(name, spp, runs, size=None):
             out[label] = dict(samples_per_s=rate, rays_per_s=rate * path, threads=threads)
         out.update(width=r.width, height=r.height, spp=spp, integrator="path",
                    mean_path_length=path, objects=int(len(r.frame.scene.obj_i)),
-                   bvh=bool(len(r.frame.scene.bvh_node)))
+                   bvh=r.frame.scene.wide is not None)
     out["scaling"] = out["all_threads"]["samples_per_s"] / out["1_thread"]["samples_per_s"]
     out["peak_rss_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return out

@@ -201,7 +201,7 @@ def test_self_exclusion_is_scale_free(scale, bvh):
 def test_bvh_finds_the_same_hits_as_testing_every_object():
     scene = rt.load_scene("weekend")
     flat, tree = pack_scene(scene, bvh=False), pack_scene(scene, bvh=True)
-    assert len(tree.bvh_node) > 1 and len(flat.bvh_node) == 0
+    assert tree.wide is not None and len(tree.wide.child) > 1 and flat.wide is None
     assert sorted(tree.bvh_prims) == list(range(len(tree.obj_i)))   # each object once
     rng = np.random.default_rng(3)
     hits = 0
@@ -323,18 +323,17 @@ def test_the_compiled_bvh_builder_builds_the_numpy_reference_tree():
 
 
 def test_the_wide_walk_finds_what_the_stackless_walk_finds():
-    # Scenes with meshes walk a 4-wide BVH nearer children first (wide_bvh.py),
-    # the others the binary one by its miss links: the same hits, bit for bit.
-    from rtweekend.path.layout import Triangles
-    from rtweekend.path import mesh_light
-    from rtweekend.path.wide_bvh import wide_tables
+    # A scene with a hierarchy walks it 4-wide, nearer children first
+    # (wide_bvh.py); the binary tree's walk by its miss links (bvh.py) finds
+    # the same hits, bit for bit.
+    from rtweekend.path.bvh_build import build_bvh
     rng = np.random.default_rng(8)
     scene = _random_spheres_and_boxes(rng, 400, 30, 20)
-    stackless = pack_scene(scene, bvh=True)
-    tree = stackless.bvh_box, stackless.bvh_node, stackless.bvh_prims
-    ordered = stackless._replace(tris=Triangles(
-        np.zeros((0, 6)), np.zeros((0, 9)), *mesh_light.pack(stackless.obj_f, []),
-        *wide_tables(stackless.obj_i, stackless.obj_f, *tree)))
+    ordered = pack_scene(scene, bvh=True)
+    assert ordered.wide is not None and ordered.bvh_node.shape[0] == 0
+    box, node, prims = build_bvh(ordered.obj_i, ordered.obj_f, np.sort(ordered.bvh_prims))
+    assert np.array_equal(prims, ordered.bvh_prims)
+    stackless = ordered._replace(wide=None, bvh_box=box, bvh_node=node)
     o = rng.uniform(-30, 30, (20_000, 3))
     d = rng.normal(size=(20_000, 3))
     d /= np.linalg.norm(d, axis=1, keepdims=True)

@@ -1,10 +1,15 @@
-"""A flat bounding volume hierarchy, built once per scene (bvh_build.py).
+"""The search for the nearest hit (closest_hit) and for any hit before a
+distance (unoccluded), over a bounding volume hierarchy built once per scene.
 
-Nodes are stored in depth-first order, so a node's left child is the next
-node, and each node keeps a "miss" link: the node to visit when the ray misses
-its box (the next node after its subtree).  In a scene without meshes both
-searches (closest_hit, and unoccluded, which may stop at any object met) walk
-it in a single loop with no stack:
+The hierarchy is built binary (bvh_build.py: the binned surface-area
+heuristic, pbrt's BVHAggregate, Wald 2007) and collapsed into 4-wide nodes,
+which both searches walk nearer children first (wide_bvh.py).  A scene too
+small for a hierarchy (fewer than BVH_MIN_OBJECTS) tests every object, in
+the single loop of stackless_walk with no nodes.
+
+stackless_walk also walks the binary tree itself, by the nodes' "miss" links
+-- nodes in depth-first order, so a node's left child is the next node and its
+miss link the node after its subtree -- with no stack:
 
     i = 0
     while i < n_nodes:
@@ -17,10 +22,8 @@ bvh_node[i] = (first, count, miss): a leaf holds objects bvh_prims[first:first+c
               an inner node has count 0 and its right child as `first` (its left
               one is i + 1).  Without a hierarchy (no nodes), bvh_prims lists every
               object once.
-The split is the binned surface-area heuristic (pbrt's BVHAggregate, Wald 2007).
-A scene with meshes collapses the tree into 4-wide nodes and walks those,
-nearer children first (wide_bvh.py).  For small scenes the walk tests every
-object.
+The renderer keeps no binary nodes once the tree is 4-wide; the tests and the
+float32 probe (benchmarks/precision.py) walk it this way, as a reference.
 """
 import math
 
@@ -77,21 +80,22 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
     ray leaving object from_obj (NO_HIT: none; from_inside: into its ball), at
     `time` on the shutter (None: nothing moves).
 
-    A scene with meshes walks its 4-wide BVH nearer children first
-    (wide_bvh.py); the others keep the stackless walk (stackless_walk),
-    which for them is as fast (a nearer-first walk of the binary tree made
-    weekend 0.94x as fast and next_week_final 1.13x).  Which walk runs is
-    decided when compiling (scene.tris is None or not), and only that one is
-    compiled.
+    A scene with a hierarchy walks it 4-wide, nearer children first
+    (wide_bvh.py: 1.2-1.4x the rays per second of the binary tree's stackless
+    walk on weekend and next_week_final); a small one tests every object
+    (stackless_walk with no nodes).  Which runs is decided when compiling
+    (scene.wide is None or not), and only that one is compiled.
     """
-    return _walk(scene, scene.tris, o, d, t_max, from_obj, from_inside, time, False)
+    return _walk(scene, scene.wide, scene.tris, o, d, t_max, from_obj, from_inside, time,
+                 False)
 
 
 @jit_step
-def _walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
-    if tris is None:
+def _walk(scene, wide, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
+    if wide is None:
         return stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, first_hit)
-    return wide_bvh.walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit)
+    return wide_bvh.walk(scene, wide, tris, o, d, t_max, from_obj, from_inside, time,
+                         first_hit)
 
 
 @jit_step
@@ -154,5 +158,6 @@ def unoccluded(scene, o, d, t_max, from_obj, from_inside, time):
     visibility of a connection between two points; what a ray leaving object
     from_obj may meet, as for closest_hit.)  closest_hit's walk, stopped at
     the first object met: any one blocks the segment."""
-    k, _ = _walk(scene, scene.tris, o, d, t_max, from_obj, from_inside, time, True)
+    k, _ = _walk(scene, scene.wide, scene.tris, o, d, t_max, from_obj, from_inside, time,
+                 True)
     return k == NO_HIT

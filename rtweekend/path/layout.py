@@ -85,28 +85,38 @@ class SceneArrays(NamedTuple):
     light_pick: np.ndarray  # float64 [N]: how often next events pick each object
     bg_kind: int           # BG_COLOR or BG_SKY
     bg: np.ndarray         # float64 [3]: the background's radiance (BG_COLOR)
-    bvh_box: np.ndarray    # the hierarchy (bvh.py); empty for small scenes
+    # The binary hierarchy as built (bvh.py, bvh_build.py): bvh_prims lists
+    # every object the search tests; the nodes are empty once it is made
+    # 4-wide (wide), and for small scenes, which test every object.
+    bvh_box: np.ndarray
     bvh_node: np.ndarray
     bvh_prims: np.ndarray
     # The meshes' tables, None in a scene without meshes: then the kernels
     # compile none of the triangle's code (shapes/triangle.py).
     tris: object = None
+    # The 4-wide BVH (wide_bvh.py, WideBVH) the search walks, None in a scene
+    # too small for a hierarchy: then it tests every object in one loop.
+    wide: object = None
+
+
+class WideBVH(NamedTuple):
+    """The hierarchy with four children to a node (wide_bvh.py)."""
+    box: np.ndarray        # float64 [W, 6, 4]: each node's children's boxes
+    child: np.ndarray      # int64 [W, 4]: a wide node, or a leaf (first block, count)
+    leaf_prim: np.ndarray  # int64 [4 B]: the leaves' objects (-1 - k: not a triangle)
+    leaf_tri: np.ndarray   # float64 [B, 9, 4]: their triangles' vertices, four a block;
+    #                        [0, 9, 4] in a scene without meshes
 
 
 class Triangles(NamedTuple):
     """What a mesh's triangles have beyond their rows of obj_f, by the row's
-    INDEX (shapes/triangle.py), and the scene's 4-wide BVH (wide_bvh.py),
-    which a scene with meshes walks instead of the binary one."""
+    INDEX (shapes/triangle.py)."""
     uvs: np.ndarray        # float64 [T, 6]: (u, v) at P0, P1, P2; [0, 6]: none
     normals: np.ndarray    # float64 [T, 9]: unit vertex normals at P0, P1, P2 (NaN: a
     #                        flat triangle); [0, 9]: no mesh shades smoothly
     groups: np.ndarray     # int64 [G, 3]: the lights list's meshes (mesh_light.py)
     group_cdf: np.ndarray  # float64: their triangles' cumulative areas over the total
     group_area: np.ndarray  # float64 [G]: their areas
-    wide_box: np.ndarray   # float64 [W, 6, 4]: each node's children's boxes
-    wide_child: np.ndarray  # int64 [W, 4]: a wide node, or a leaf (first, count)
-    leaf_prim: np.ndarray  # int64 [4 B]: the leaves' objects (-1 - k: not a triangle)
-    leaf_tri: np.ndarray   # float64 [B, 9, 4]: their triangles' vertices, four a block
 
 
 class PathParams(NamedTuple):

@@ -93,11 +93,18 @@ def sample_toward(tris, obj_f, g, p, state):
 
 
 @jit_step
-def pdf_toward(tris, obj_f, g, p, d, from_obj):
+def pdf_toward(tris, wide, obj_f, g, p, d, from_obj):
     """Solid-angle density at p of direction d under sample_toward(g): the sum
-    over the mesh's triangles d meets of distance^2 / |cos|, over its area."""
+    over the mesh's triangles d meets of distance^2 / |cos|, over its area
+    (wide: the scene's WideBVH, None if it has none: then every triangle)."""
     if tris is None:
         return like(p[0], NAN)
     first, count = tris.groups[g, 0], tris.groups[g, 1]
-    return wide_bvh.solid_angle_sum(tris, obj_f, p, d, first, count, from_obj) / \
+    if wide is None:
+        total = 0.0
+        for k in range(first, first + count):
+            if k != from_obj:
+                total += triangle.solid_angle_term(obj_f, k, p, d)
+        return total / tris.group_area[g]
+    return wide_bvh.solid_angle_sum(wide, obj_f, p, d, first, count, from_obj) / \
         tris.group_area[g]

@@ -11,7 +11,8 @@ from ..scene.fields import SKY
 from . import bvh as hierarchy, mesh_light, wide_bvh
 from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS,
                      MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, OBJ_MAT, PRIMITIVE_KINDS, RECT,
-                     SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles)
+                     SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles,
+                     WideBVH)
 from .shapes import axis_rect, box, rect, sphere, triangle
 from .lights import pack_lights
 from .textures import pack_textures
@@ -152,19 +153,20 @@ def pack_scene(scene, bvh=None):
     ids = None if len(surfaces) == len(obj_i) else surfaces
     if bvh is None:
         bvh = len(surfaces) >= hierarchy.BVH_MIN_OBJECTS
+    wide = None
     if bvh and len(surfaces):
         tree = hierarchy.build_bvh(obj_i, obj_f, ids)
+        # Walked 4-wide: the binary nodes are not kept.
+        wide = WideBVH(*wide_bvh.wide_tables(obj_i, obj_f, *tree, tris.count > 0))
+        tree = (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), tree[2])
     else:
         tree = hierarchy.empty_bvh(len(obj_i), ids)
     emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
     mat_f = mat_f.reshape(-1, MAT_FLOATS)
     mesh_lights = [(first[id(s)], s.primitives) for s in scene.lights if s.kind == "mesh"]
-    mesh_tables = tris.arrays(obj_i, obj_f, tree, mesh_lights)
-    if mesh_tables is not None:     # walked 4-wide: the binary nodes are not kept
-        tree = (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), tree[2])
     return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
                        *pack_lights(obj_i, obj_f, mat_i, mat_f), bg_kind, bg, *tree,
-                       mesh_tables)
+                       tris.arrays(obj_f, mesh_lights), wide)
 
 
 class TriangleTables:
@@ -201,16 +203,14 @@ class TriangleTables:
         return np.concatenate([rows if rows is not None else np.full((n, columns), missing)
                                for n, rows in parts])
 
-    def arrays(self, obj_i, obj_f, tree, mesh_lights):
-        """layout.Triangles, with the 4-wide form of the BVH `tree` (bvh_box,
-        bvh_node, bvh_prims) and the lights list's meshes (first object,
+    def arrays(self, obj_f, mesh_lights):
+        """layout.Triangles, with the lights list's meshes (first object,
         triangle count), or None when the scene has no mesh."""
         if self.count == 0:
             return None
         uvs = self._table(self.uvs, 6, 0.0)
         normals = self._table(self.normals, 9, np.nan)    # NaN: a flat triangle
-        return Triangles(uvs, normals, *mesh_light.pack(obj_f, mesh_lights),
-                         *wide_bvh.wide_tables(obj_i, obj_f, *tree))
+        return Triangles(uvs, normals, *mesh_light.pack(obj_f, mesh_lights))
 
 
 def dark_sides(arrays):

@@ -30,7 +30,7 @@ def density_toward(scene, k, p, d, from_obj, from_inside, time):
     """Density of d under toward_light(k) at p; 0 where d misses it."""
     g = mesh_light.group_of(scene.tris, k)
     if g >= 0:
-        return mesh_light.pdf_toward(scene.tris, scene.obj_f, g, p, d, from_obj)
+        return mesh_light.pdf_toward(scene.tris, scene.wide, scene.obj_f, g, p, d, from_obj)
     return shapes.pdf_toward(scene, k, p, d, from_obj, from_inside, time)
 
 

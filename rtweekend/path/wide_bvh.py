@@ -67,9 +67,10 @@ MERGE = 12
 STACK = (WIDTH - 1) * (MEDIAN_FROM_DEPTH + 32)
 
 
-def wide_tables(obj_i, obj_f, bvh_box, bvh_node, bvh_prims):
-    """(wide_box, wide_child, leaf_prim, leaf_tri) for the binary tree
-    (bvh_box, bvh_node, bvh_prims); with no tree, one leaf of bvh_prims."""
+def wide_tables(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, triangles=True):
+    """(box, child, leaf_prim, leaf_tri) of layout.WideBVH for the binary tree
+    (bvh_box, bvh_node, bvh_prims); with no tree, one leaf of bvh_prims.
+    triangles: the scene has some (else leaf_tri is empty: never read)."""
     if bvh_node.shape[0] == 0:
         wide_box = np.empty((1, 6, WIDTH))
         wide_box[0, :3], wide_box[0, 3:] = np.inf, -np.inf      # empty boxes but
@@ -80,7 +81,7 @@ def wide_tables(obj_i, obj_f, bvh_box, bvh_node, bvh_prims):
         wide_box, wide_child = _collapse(bvh_box, bvh_node, MERGE)
     blocks = _count_blocks(wide_child)
     leaf_prim = np.full(blocks * WIDTH, NO_HIT, dtype=np.int64)
-    leaf_tri = np.full((blocks, 9, WIDTH), np.nan)
+    leaf_tri = np.full((blocks if triangles else 0, 9, WIDTH), np.nan)
     _blocks(obj_i, obj_f, bvh_prims, wide_child, leaf_prim, leaf_tri)
     return wide_box, wide_child, leaf_prim, leaf_tri
 
@@ -110,7 +111,7 @@ def _blocks(obj_i, obj_f, prims, wide_child, leaf_prim, leaf_tri):
             for j in range(count):
                 k = prims[first + j]
                 lane = b * WIDTH + j
-                if obj_i[k, OBJ_KIND] == TRIANGLE:
+                if obj_i[k, OBJ_KIND] == TRIANGLE:    # (then leaf_tri has its rows)
                     leaf_prim[lane] = k
                     for r in range(9):
                         leaf_tri[lane // WIDTH, r, lane % WIDTH] = obj_f[k, triangle.P0 + r]
@@ -181,17 +182,21 @@ def _collapse(box, node, merge):
 
 
 @jit_step
-def walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
+def walk(scene, wide, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
     """(object, t) of the nearest hit before t_max, or with first_hit of the
     first one met (a segment is blocked by any), or (NO_HIT, t_max): the walk
     goes to the nearest child whose box the ray enters and keeps the others,
     with where the ray enters them, on a stack; one entered only beyond a hit
-    already found is never opened."""
-    wide_box, wide_child = tris.wide_box, tris.wide_child
-    leaf_prim, leaf_tri = tris.leaf_prim, tris.leaf_tri
+    already found is never opened.  wide: scene.wide; tris: scene.tris, a
+    direct argument so that a scene without meshes compiles no triangle test
+    here."""
+    wide_box, wide_child = wide.box, wide.child
+    leaf_prim, leaf_tri = wide.leaf_prim, wide.leaf_tri
     best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrators/path.py)
     inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
-    frame = triangle.ray_frame(d)       # the triangle test's, made once per ray
+    frame = (0, 0, 0, 0.0, 0.0, 0.0)
+    if tris is not None:
+        frame = triangle.ray_frame(d)   # the triangle test's, made once per ray
     rows = near_rows(inv_d)
     nodes = stack_array(STACK, np.int64)
     entries = stack_array(STACK, np.float64)
@@ -238,15 +243,16 @@ def walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
             first, count = (leaf >> COUNT_BITS) * WIDTH, leaf & COUNT_MASK
             tests = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
             for j in range(first, first + count):
-                q = j % WIDTH
-                if q == 0:
-                    tests = simd.watertight4(leaf_tri, j // WIDTH, o, frame)
                 k = leaf_prim[j]
-                if k >= 0:
-                    t = like(t_max, INF)
-                    if k != from_obj and triangle.within(tests[q], tests[WIDTH + q], t_max):
+                t = like(t_max, INF)
+                if tris is not None:            # (a scene without meshes: none)
+                    q = j % WIDTH
+                    if q == 0:
+                        tests = simd.watertight4(leaf_tri, j // WIDTH, o, frame)
+                    if k >= 0 and k != from_obj and triangle.within(
+                            tests[q], tests[WIDTH + q], t_max):
                         t = tests[WIDTH + q] * (1.0 / tests[q])
-                else:
+                if k < 0:
                     k = (-1 - k) & NON_NEGATIVE
                     t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time)
                 if t < t_max:
@@ -274,13 +280,13 @@ def near_rows(inv_d):
 
 
 @jit_step
-def solid_angle_sum(tris, obj_f, o, d, first, count, from_obj):
+def solid_angle_sum(wide, obj_f, o, d, first, count, from_obj):
     """Over every triangle of objects first .. first + count - 1 that the ray
     o + t d (t > 0) meets, wherever, t^2 / |cos| (cos between d and its
     normal): times 1 / area, the solid-angle density at o of d under a point
     drawn uniformly on them (mesh_light.py).  from_obj is not met again."""
-    wide_box, wide_child = tris.wide_box, tris.wide_child
-    leaf_prim, leaf_tri = tris.leaf_prim, tris.leaf_tri
+    wide_box, wide_child = wide.box, wide.child
+    leaf_prim, leaf_tri = wide.leaf_prim, wide.leaf_tri
     inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
     frame = triangle.ray_frame(d)
     rows = near_rows(inv_d)

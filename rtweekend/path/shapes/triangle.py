@@ -162,6 +162,17 @@ def within(det, t_scaled, t_max):
 
 
 @jit_step
+def solid_angle_term(obj_f, k, p, d):
+    """distance^2 / |cos| where the ray from p along d meets triangle k, wherever
+    (0 if it misses): its part of a mesh's light density (mesh_light.py)."""
+    t = hit(obj_f, k, p, d, INF)[0]
+    if t == INF:
+        return 0.0
+    cosine = abs(dot(_vertex(obj_f, k, N), d))
+    return t * t / cosine if cosine > 0.0 else 0.0
+
+
+@jit_step
 def distance(tris, obj_f, k, o, d, t_max, from_self):
     """Distance to the triangle along d; a ray leaving it never meets it again."""
     if tris is None:
