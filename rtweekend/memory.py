@@ -97,16 +97,20 @@ def size(n):
     return f"{n} bytes"
 
 
-def check(needed, width, height, what="render", scene=0, objects=0, origin=None):
+def check(needed, width, height, what="render", scene=0, objects=0, origin=None,
+          primitives=None):
     """SceneError unless `needed` bytes (of which `scene` for the scene's arrays,
-    with `objects` objects) fit in what this process can still get; the message
-    names the image's size and `origin` (what set it), or the scene if it needs
-    most of it."""
+    with `objects` objects, `primitives` of them after packing: a mesh's
+    triangles) fit in what this process can still get; the message names the
+    image's size and `origin` (what set it), or the scene if it needs most of
+    it."""
     free, source = available()
     if free is None or needed <= SHARE * free:
         return
     if scene > needed / 2:
-        raise SceneError(f"{what}: the scene's {objects} objects need about {size(scene)} "
+        parts = (f" ({primitives:,} primitives: a mesh's triangles count one each)"
+                 if primitives is not None and primitives != objects else "")
+        raise SceneError(f"{what}: the scene's {objects} objects{parts} need about {size(scene)} "
                          f"of memory, with its {width}x{height} image {size(needed)}, and "
                          f"{size(free)} is available ({source}); render a smaller scene")
     where = f" ({origin})" if origin else ""

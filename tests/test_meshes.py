@@ -382,3 +382,33 @@ def test_the_bundled_mesh_scene_renders_as_mitsuba_does(sampling):
     se = np.hypot(block_se(r.stderr, 50), block_se(ref_se, 50))
     z = (blocks(r.image, 50) - blocks(reference, 50)) / se
     assert z.size == 12 and np.abs(z).max() < 5, z
+
+
+def test_the_memory_check_counts_a_meshs_tables(monkeypatch):
+    # What packing a mesh makes -- its rows, the wide BVH, its triangles in
+    # blocks, vertex normals and uvs -- is within the estimate the memory
+    # check uses before packing, and a mesh that does not fit is refused in
+    # one line, before anything is packed.
+    from rtweekend import memory
+    from rtweekend.path import pack, renderer
+
+    def nbytes(x):
+        if isinstance(x, np.ndarray):
+            return x.nbytes
+        if isinstance(x, tuple):
+            return sum(nbytes(y) for y in x)
+        return 0
+    v, f = sphere_mesh(60, 120)
+    uv = np.random.default_rng(1).random((len(v), 2))
+    scene = rt.Scene(camera=rt.Camera(width=4, height=4))
+    scene.add(rt.mesh((v, f, uv, v), GREY))
+    scene.add(rt.xz_rect(-5, 5, -5, 5, 3, rt.diffuse_light((1, 1, 1))), light=True)
+    packed = nbytes(pack_scene(scene))
+    assert packed < pack.scene_bytes(scene) < 4 * packed
+    monkeypatch.setattr(memory, "available", lambda: (pack.scene_bytes(scene), "MemAvailable"))
+    packing = []
+    monkeypatch.setattr(renderer, "pack_scene", lambda *a, **k: packing.append(a))
+    with pytest.raises(rt.SceneError, match=rf"the scene's 2 objects \({len(f) + 1:,} "
+                       r"primitives: a mesh's triangles count one each\) need about "):
+        rt.render(scene, spp=1)
+    assert packing == []

@@ -125,3 +125,24 @@ def test_an_obj_file_is_read_without_trimesh(tmp_path, monkeypatch):
     (tmp_path / "tri.ply").write_text("ply\n")
     with pytest.raises(Exception, match="needs trimesh"):
         meshes.read(tmp_path / "tri.ply")
+
+
+def test_a_mesh_file_too_big_for_memory_is_refused_before_it_is_read(tmp_path, monkeypatch):
+    from rtweekend import memory
+    import rtweekend as rt
+    v, f = sphere_mesh(30, 60)
+    lines = [f"v {x:.6f} {y:.6f} {z:.6f}" for x, y, z in v]
+    lines += ["f " + " ".join(str(i + 1) for i in face) for face in f]
+    (tmp_path / "ball.obj").write_text("\n".join(lines) + "\n")
+    monkeypatch.setattr(memory, "available", lambda: (10_000, "MemAvailable"))
+    made = []
+    monkeypatch.setattr(obj.np, "empty", lambda *a, **k: made.append(a))
+    with pytest.raises(rt.SceneError, match=rf"file: .*ball.obj: its {len(f):,} triangles need "
+                       r"about [0-9.]+ kB of memory to read, and 10.0 kB is available "
+                       r"\(MemAvailable\)"):
+        rt.mesh(tmp_path / "ball.obj", rt.lambertian((0.5, 0.5, 0.5)))
+    assert made == []                    # refused after counting, before any table
+    pytest.importorskip("trimesh", reason="needs the meshes extra")
+    (tmp_path / "ball.ply").write_bytes(b"ply\n" + b"\0" * 20_000)
+    with pytest.raises(rt.SceneError, match=r"ball.ply: its contents need about"):
+        rt.mesh(tmp_path / "ball.ply", rt.lambertian((0.5, 0.5, 0.5)))

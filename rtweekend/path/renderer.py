@@ -157,6 +157,7 @@ def _check_memory(scene, options):
     maps = photons.map_bytes(BLOCK_SPP) if options.strategy.photons else 0
     memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features)
                  + scene_part + maps, width, height, scene=scene_part, objects=len(scene.objects),
+                 primitives=sum(shape.primitives for shape in scene.objects),
                  origin=options.size_origin(scene))
 
 

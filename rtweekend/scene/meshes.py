@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from . import obj
+from .. import memory
 from ..errors import FieldError
 
 INSTALL = "pip install 'rtweekend[meshes]'"
@@ -28,8 +29,10 @@ def read(path):
     if not path.is_file():
         raise FieldError("file", f"no such mesh file: {path}")
     if path.suffix.lower() == ".obj":
+        def fits(needed, triangles):
+            _fits(path, needed + path.stat().st_size, f"its {triangles:,} triangles")
         try:
-            mesh = obj.read(path)
+            mesh = obj.read(path, fits)
         except OSError as e:
             raise FieldError("file", f"cannot read the mesh {path}: {e}") from None
         if mesh is not None:
@@ -39,6 +42,20 @@ def read(path):
     return read_with_trimesh(path)
 
 
+def _fits(path, needed, what):
+    """FieldError (on `file`) unless `needed` bytes fit in what this process
+    can still get (memory.py), before a mesh file is read."""
+    free, source = memory.available()
+    if free is not None and needed > memory.SHARE * free:
+        raise FieldError("file", f"{path}: {what} need about {memory.size(needed)} of memory "
+                         f"to read, and {memory.size(free)} is available ({source})")
+
+
+# What trimesh holds reading a file, per byte of it (its text or binary
+# arrays, then NumPy's, then ours): a bound, not a measure.
+TRIMESH_BYTES_PER_FILE_BYTE = 4
+
+
 def read_with_trimesh(path):
     """read(), by trimesh for every format."""
     try:
@@ -46,6 +63,7 @@ def read_with_trimesh(path):
     except ImportError:
         raise FieldError("file", f"reading mesh files needs trimesh: {INSTALL}") from None
     path = Path(path)
+    _fits(path, TRIMESH_BYTES_PER_FILE_BYTE * path.stat().st_size, "its contents")
     try:
         # process=False: the file's vertices as they are (their uvs and normals
         # with them).  A scene keeps each part's normals, which a mesh

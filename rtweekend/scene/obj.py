@@ -233,10 +233,12 @@ def _scan(text, pow10, fill, v, vt, vn, corners, hard):
     return nv, nvt, nvn, nt, nh, True
 
 
-def read(path):
+def read(path, fits=None):
     """(vertices, faces, uvs, normals) of the OBJ file at path, as
     meshes.read gives them; None if it holds what this reader does not read
-    exactly (the caller then uses trimesh)."""
+    exactly (the caller then uses trimesh).  fits(bytes, triangles), if
+    given, is asked once the lines are counted, before the arrays are made
+    (it raises if they would not fit in memory)."""
     text = np.fromfile(path, dtype=np.uint8)
     if text[:3].tobytes() == b"\xef\xbb\xbf":        # a UTF-8 byte order mark
         text = text[3:]
@@ -245,6 +247,9 @@ def read(path):
                                      np.zeros((0, 5), dtype=np.int64))
     if not ok:
         return None
+    if fits is not None:
+        # The tables, the corners, and making vertices of them (unique keys).
+        fits(8 * (3 * nv + 2 * nvt + 3 * nvn) + 8 * nt * (9 + 3 * 4 + 3), nt)
     v, vt, vn = np.empty((nv, 3)), np.empty((nvt, 2)), np.empty((nvn, 3))
     corners = np.empty((nt, 3, 3), dtype=np.int64)
     hard = np.empty((nh, 5), dtype=np.int64)
