@@ -320,6 +320,15 @@ def test_the_compiled_bvh_builder_builds_the_numpy_reference_tree():
     arrays = pack_scene(scene, bvh=False)
     assert same(arrays)
     assert same(arrays, np.arange(0, len(arrays.obj_i), 3))
+    # Subtrees built on threads (down to 8 objects, so there are many), put
+    # back together: the same tree.
+    from rtweekend.path.bvh_build import _build, object_bounds
+    bounds = object_bounds(arrays.obj_i, arrays.obj_f)
+    ids = np.arange(len(arrays.obj_i), dtype=np.int64)
+    old = bvh_reference.build_bvh(arrays.obj_i, arrays.obj_f)
+    for task in (8, 100, 10**6):
+        new = _build(bounds, ids.copy(), task)
+        assert all(np.array_equal(a, b) for a, b in zip(new, old)), task
 
 
 def test_the_wide_walk_finds_what_the_stackless_walk_finds():

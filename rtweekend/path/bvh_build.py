@@ -18,8 +18,9 @@ The arithmetic is NumPy's, step for step (no fastmath: a reciprocal in place of
 a division would move objects between bins), so the tree is the one the NumPy
 version of this algorithm builds (tests/test_hittables.py compares them).
 """
+import numba
 import numpy as np
-from numba import njit
+from numba import njit, prange
 
 from . import shapes
 from .layout import OBJ_KIND, TRIANGLE
@@ -32,6 +33,8 @@ TRAVERSAL_COST = 1.0  # cost of a box test relative to an object test
 # from this depth on nodes are halved at the median, whatever the SAH says,
 # so no tree of up to 2^31 objects is deeper than 64 + 27 levels.
 MEDIAN_FROM_DEPTH = 64
+# Subtrees are built on threads from this many objects (fewer: not worth one).
+TASK_MIN = 4096
 
 
 def object_bounds(obj_i, obj_f):
@@ -183,57 +186,77 @@ def _median_split(centroids, ids, start, end, goes_left):
         goes_left[order[j]] = True
 
 
-@njit(cache=True)
-def _build(bounds, ids):
+def _build(bounds, ids, task=None):
+    """The tree over the objects ids (reordered in place), built in parallel:
+    the nodes of more than `task` objects one by one, then the subtrees below
+    them each on its own thread.  Every node is split as the one-by-one
+    build splits it (its objects and depth decide), and the subtrees are put
+    back in depth-first order, so the tree is the same, bit for bit, for any
+    `task` and any number of threads."""
     n = ids.shape[0]
+    if task is None:
+        task = max(n // (4 * numba.get_num_threads()), TASK_MIN)
     centroids = 0.5 * (bounds[:, :3] + bounds[:, 3:])
-    box = np.empty((max(2 * n - 1, 1), 6))
-    node = np.zeros((max(2 * n - 1, 1), 3), dtype=np.int64)
-    right = np.full(max(2 * n - 1, 1), -1, dtype=np.int64)
-    prims = np.empty(n, dtype=np.int64)
-    goes_left = np.empty(n, dtype=np.bool_)
-    scratch = np.empty(n, dtype=np.int64)
-    # _split's scratch space, made once: allocating it per node took most of
-    # the build's time (a million triangles make two million nodes).
-    bin_of = np.empty((3, n), dtype=np.int64)
-    count_b = np.empty((3, BINS), dtype=np.int64)
-    blo, bhi = np.empty((3, BINS, 3)), np.empty((3, BINS, 3))
-    cost = np.empty(BINS - 1)
-    c3 = np.empty((3, 3))
+    return _build_parallel(bounds, centroids, ids, task)
+
+
+@njit(cache=True)
+def _scratch(n):
+    """_grow's working arrays for a subtree of n objects."""
+    # Made once per subtree: allocating them per node took most of the
+    # build's time (a million triangles make two million nodes).
+    return (np.empty(n, dtype=np.bool_), np.empty(n, dtype=np.int64),
+            np.empty((3, max(n, 1)), dtype=np.int64), np.empty((3, BINS), dtype=np.int64),
+            np.empty((3, BINS, 3)), np.empty((3, BINS, 3)), np.empty(BINS - 1),
+            np.empty((3, 3)), np.empty((n + 1, 4), dtype=np.int64))
+
+
+@njit(cache=True)
+def _grow(bounds, centroids, ids, start0, end0, depth0, box, node, right, task, tasks):
+    """Build the subtree of ids[start0:end0] (at depth0) into rows 0, 1, ...
+    of box, node, right, depth first, left first; a node below the root with
+    at most `task` objects (task > 0) is left for later: its row is kept and
+    (start, end, depth, row) appended to tasks.  Returns (rows, tasks made).
+    Leaves' first object is their start: ids[start:end] ends in leaf order."""
+    goes_left, scratch, bin_of, count_b, blo, bhi, cost, c3, stack = _scratch(end0 - start0)
     # Depth first, left first: a stack of (start, end, the parent waiting for
     # this node's number as its right child; -1 for a left child or the root).
-    stack = np.empty((n + 1, 4), dtype=np.int64)
-    stack[0] = (0, n, -1, 0)
-    top, count, placed = 1, 0, 0
+    stack[0] = (start0, end0, -1, depth0)
+    top, count, made = 1, 0, 0
     while top > 0:
         top -= 1
         start, end, parent, depth = stack[top]
         i = count
         count += 1
+        right[i] = -1
         if parent >= 0:
             right[parent] = i
+        m = end - start
+        if task > 0 and i > 0 and m <= task:
+            tasks[made] = (start, end, depth, i)
+            made += 1
+            continue
         lx, ly, lz, hx, hy, hz = np.inf, np.inf, np.inf, -np.inf, -np.inf, -np.inf
         for j in range(start, end):
             k = ids[j]
             lx, ly, lz = min(lx, bounds[k, 0]), min(ly, bounds[k, 1]), min(lz, bounds[k, 2])
             hx, hy, hz = max(hx, bounds[k, 3]), max(hy, bounds[k, 4]), max(hz, bounds[k, 5])
         box[i, 0], box[i, 1], box[i, 2], box[i, 3], box[i, 4], box[i, 5] = lx, ly, lz, hx, hy, hz
-        m = end - start
+        # goes_left, bin_of: indexed from start0 (this subtree's scratch).
         split = m > 1 and depth < MEDIAN_FROM_DEPTH and _split(
-            bounds, centroids, ids, start, end, goes_left, box[i], bin_of, count_b, blo, bhi,
-            cost, c3)
+            bounds, centroids, ids, start, end, goes_left[start - start0:], box[i],
+            bin_of[:, start - start0:], count_b, blo, bhi, cost, c3)
         if not split and m > LEAF_SIZE:
-            _median_split(centroids, ids, start, end, goes_left)
+            _median_split(centroids, ids, start, end, goes_left[start - start0:])
             split = True
         if not split:
-            node[i, 0], node[i, 1] = placed, m
-            prims[placed:placed + m] = ids[start:end]
-            placed += m
+            node[i, 0], node[i, 1] = start, m
             continue
+        node[i, 1] = 0
         # Stable partition: the left ones, then the right ones, each in order.
         a, b = start, 0
         for j in range(m):
-            if goes_left[j]:
+            if goes_left[start - start0 + j]:
                 ids[a] = ids[start + j]
                 a += 1
             else:
@@ -243,12 +266,62 @@ def _build(bounds, ids):
         stack[top] = (a, end, i, depth + 1)         # the right child, after the left subtree
         stack[top + 1] = (start, a, -1, depth + 1)  # the left child: next
         top += 2
+    return count, made
+
+
+@njit(cache=True, parallel=True)
+def _build_parallel(bounds, centroids, ids, task):
+    n = ids.shape[0]
+    rows = max(2 * n - 1, 1)
+    # The top: nodes of more than `task` objects; the rest are tasks.  (Rows
+    # made with np.empty take memory only where they are written.)
+    tbox, tnode = np.empty((rows, 6)), np.empty((rows, 3), dtype=np.int64)
+    tright = np.empty(rows, dtype=np.int64)
+    tasks = np.empty((max(n, 1), 4), dtype=np.int64)
+    top_rows, made = _grow(bounds, centroids, ids, 0, n, 0, tbox, tnode, tright, task, tasks)
+    # Each task's subtree into its own rows of sbox, snode, sright (at most
+    # 2m - 1 for m objects), on the threads.
+    first = np.zeros(made + 1, dtype=np.int64)
+    for t in range(made):
+        first[t + 1] = first[t] + 2 * (tasks[t, 1] - tasks[t, 0]) - 1
+    sbox, snode = np.empty((max(first[made], 1), 6)), np.empty((max(first[made], 1), 3),
+                                                                 dtype=np.int64)
+    sright = np.empty(max(first[made], 1), dtype=np.int64)
+    used = np.zeros(made, dtype=np.int64)
+    for t in prange(made):
+        a, b = first[t], first[t + 1]
+        used[t], _ = _grow(bounds, centroids, ids, tasks[t, 0], tasks[t, 1], tasks[t, 2],
+                           sbox[a:b], snode[a:b], sright[a:b], 0, tasks[t:t])
+    # Put together, depth first: each top row, a task's subtree where its row is.
+    total = top_rows - made + used.sum()
+    box, node = np.empty((total, 6)), np.zeros((total, 3), dtype=np.int64)
+    right = np.full(total, -1, dtype=np.int64)
+    final = np.empty(top_rows, dtype=np.int64)      # a top row's final number
+    task_of = np.full(top_rows, -1, dtype=np.int64)
+    for t in range(made):
+        task_of[tasks[t, 3]] = t
+    at = 0
+    for i in range(top_rows):
+        final[i] = at
+        t = task_of[i]
+        if t < 0:
+            box[at], node[at] = tbox[i], tnode[i]
+            at += 1
+            continue
+        for r in range(used[t]):
+            box[at + r], node[at + r] = sbox[first[t] + r], snode[first[t] + r]
+            if sright[first[t] + r] >= 0:
+                right[at + r] = at + sright[first[t] + r]
+        at += used[t]
+    for i in range(top_rows):
+        if task_of[i] < 0 and tright[i] >= 0:
+            right[final[i]] = final[tright[i]]
     # A node's miss link is the node after its subtree: sizes, children first.
     # An inner node's first column is its right child (its left is the next node).
-    size = np.ones(count, dtype=np.int64)
-    for i in range(count - 1, -1, -1):
+    size = np.ones(total, dtype=np.int64)
+    for i in range(total - 1, -1, -1):
         if node[i, 1] == 0:
             size[i] = 1 + size[i + 1] + size[right[i]]
             node[i, 0] = right[i]
         node[i, 2] = i + size[i]
-    return box[:count].copy(), node[:count].copy(), prims[:placed].copy()
+    return box, node, ids.copy()

@@ -57,10 +57,11 @@ def primitives(shape):
 
 
 # What packing one primitive holds at most, in bytes: its rows in obj_i and obj_f
-# (2 + OBJ_FLOATS values), BVH nodes (up to two per object: 6 + 3 values) and its
-# index, six light rows (a box light: 2 + 4 values) and light_pick, and the
-# Python objects packing makes on the way (a row array and a tuple each).
-BYTES_PER_OBJECT = 8 * (OBJ_INTS + OBJ_FLOATS + 2 * 9 + 1 + 6 * 6 + 1) + 400
+# (2 + OBJ_FLOATS values), BVH nodes (up to two per object: 6 + 3 values and a
+# link, twice while threads build subtrees apart) and its index, six light rows
+# (a box light: 2 + 4 values) and light_pick, and the Python objects packing
+# makes on the way (a row array and a tuple each).
+BYTES_PER_OBJECT = 8 * (OBJ_INTS + OBJ_FLOATS + 2 * 2 * 10 + 1 + 6 * 6 + 1) + 400
 
 
 def scene_bytes(scene):
