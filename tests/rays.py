@@ -1,11 +1,13 @@
-"""Rays for the tests: many at once through the renderer's own search, and
-directions uniform over the sphere."""
+"""Rays for the tests: many at once through the renderer's own search,
+directions uniform over the sphere, and directions towards a light of the
+lights list with their density."""
 import math
 
 import numpy as np
 from numba import njit
 
 from rtweekend.kernel.rng import seed_state, unit_vector
+from rtweekend.path import pdf
 from rtweekend.path.bvh import closest_hit
 from rtweekend.path.layout import NO_HIT
 
@@ -30,4 +32,27 @@ def uniform_directions(count, seed):
     for i in range(count):
         d, _ = unit_vector(seed_state(i, 1, seed))
         out[i, 0], out[i, 1], out[i, 2] = d
+    return out
+
+
+@njit
+def light_directions(arrays, k, p, count, seed):
+    """float64 [count, 3]: directions from p drawn towards object k as the
+    lights list draws them (pdf.toward_light: a mesh's first triangle stands
+    for the mesh)."""
+    out = np.empty((count, 3))
+    for i in range(count):
+        d, _ = pdf.toward_light(arrays, k, p, seed_state(i, 0, seed), None)
+        out[i, 0], out[i, 1], out[i, 2] = d
+    return out
+
+
+@njit
+def light_densities(arrays, k, p, dirs):
+    """float64 [N]: the solid-angle density at p of each direction under
+    light_directions (pdf.density_toward)."""
+    out = np.empty(dirs.shape[0])
+    for i in range(dirs.shape[0]):
+        d = (dirs[i, 0], dirs[i, 1], dirs[i, 2])
+        out[i] = pdf.density_toward(arrays, k, p, d, np.int64(NO_HIT), False, None)
     return out

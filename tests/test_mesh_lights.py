@@ -7,12 +7,10 @@ import pytest
 from numba import njit
 
 import rtweekend as rt
-from rtweekend.kernel.rng import seed_state
-from rtweekend.path import mesh_light, pdf
-from rtweekend.path.layout import NO_HIT
+from rtweekend.path import mesh_light
 from rtweekend.path.pack import pack_scene
 
-from rays import uniform_directions
+from rays import light_densities, light_directions, uniform_directions
 from stats import assert_chi2
 from test_meshes import GREY, _lambert_polygon
 
@@ -36,24 +34,6 @@ def test_the_octahedron_faces_outward():
     n = np.cross(OCTA_V[OCTA_F[:, 1]] - OCTA_V[OCTA_F[:, 0]],
                  OCTA_V[OCTA_F[:, 2]] - OCTA_V[OCTA_F[:, 0]])
     assert (((OCTA_V[OCTA_F].mean(axis=1) - [0, 2, 0]) * n).sum(axis=1) > 0).all()
-
-
-@njit
-def _toward(a, k, p, count, seed):
-    out = np.empty((count, 3))
-    for i in range(count):
-        d, _ = pdf.toward_light(a, k, p, seed_state(i, 0, seed), None)
-        out[i, 0], out[i, 1], out[i, 2] = d
-    return out
-
-
-@njit
-def _density(a, k, p, dirs):
-    out = np.empty(dirs.shape[0])
-    for i in range(dirs.shape[0]):
-        d = (dirs[i, 0], dirs[i, 1], dirs[i, 2])
-        out[i] = pdf.density_toward(a, k, p, d, np.int64(NO_HIT), False, None)
-    return out
 
 
 @njit
@@ -84,18 +64,18 @@ def test_a_mesh_lights_density_integrates_to_one_and_matches_its_samples():
     a = pack_scene(_octahedron_scene())
     k = int(a.lights[0])
     p = (0.3, 0.2, -0.4)
-    v = _density(a, k, p, uniform_directions(400_000, 7)) * 4 * math.pi
+    v = light_densities(a, k, p, uniform_directions(400_000, 7)) * 4 * math.pi
     assert abs(v.mean() - 1.0) < 5 * v.std() / math.sqrt(len(v)), v.mean()
     # Its samples: E[h(d) / density(d)] is the integral of h over directions
     # that meet the mesh -- here h = 1 + d.x, against the same integral by
     # uniform directions.  A density that counted only the nearest face would
     # be half of the true one almost everywhere and give twice the integral.
-    dirs = _toward(a, k, p, 200_000, 11)
-    dens = _density(a, k, p, dirs)
+    dirs = light_directions(a, k, p, 200_000, 11)
+    dens = light_densities(a, k, p, dirs)
     assert (dens > 0).all()
     g = (1.0 + dirs[:, 0]) / dens
     uni = uniform_directions(400_000, 5)
-    meets = _density(a, k, p, uni) > 0
+    meets = light_densities(a, k, p, uni) > 0
     h = np.where(meets, 1.0 + uni[:, 0], 0.0) * 4 * math.pi
     diff = g.mean() - h.mean()
     se = math.hypot(g.std() / math.sqrt(len(g)), h.std() / math.sqrt(len(h)))

@@ -7,15 +7,12 @@ import sys
 
 import numpy as np
 import pytest
-from numba import njit
 
 import rtweekend as rt
-from rtweekend.kernel.rng import seed_state
-from rtweekend.path import shapes
 from rtweekend.path.layout import NO_HIT, TRIANGLE
 from rtweekend.path.pack import pack_scene
 
-from rays import nearest_hits, uniform_directions
+from rays import light_densities, light_directions, nearest_hits, uniform_directions
 from stats import assert_chi2
 
 GREY = rt.lambertian((0.5, 0.5, 0.5))
@@ -198,23 +195,6 @@ def test_a_box_of_12_triangles_renders_as_the_box_primitive(sampling):
 
 # -- a triangle as a light: its direction sampling and density ----------------------------
 
-@njit
-def _toward(a, k, p, count, seed):
-    out = np.empty((count, 3))
-    for i in range(count):
-        d, _ = shapes.sample_toward(a, k, p, seed_state(i, 0, seed), None)
-        out[i, 0], out[i, 1], out[i, 2] = d
-    return out
-
-
-@njit
-def _density(a, k, p, dirs):
-    out = np.empty(dirs.shape[0])
-    for i in range(dirs.shape[0]):
-        d = (dirs[i, 0], dirs[i, 1], dirs[i, 2])
-        out[i] = shapes.pdf_toward(a, k, p, d, np.int64(NO_HIT), False, None)
-    return out
-
 
 def test_a_triangles_light_density_integrates_to_one_and_its_samples_follow_it():
     scene = rt.Scene()
@@ -223,10 +203,10 @@ def test_a_triangles_light_density_integrates_to_one_and_its_samples_follow_it()
     a = pack_scene(scene)
     assert a.obj_i[0, 0] == TRIANGLE
     p = (0.1, 0.0, 0.0)
-    v = _density(a, 0, p, uniform_directions(400_000, 7)) * 4 * math.pi
+    v = light_densities(a, 0, p, uniform_directions(400_000, 7)) * 4 * math.pi
     assert abs(v.mean() - 1.0) < 5 * v.std() / math.sqrt(len(v))
-    dirs = _toward(a, 0, p, 200_000, 11)
-    assert (_density(a, 0, p, dirs) > 0).all()
+    dirs = light_directions(a, 0, p, 200_000, 11)
+    assert (light_densities(a, 0, p, dirs) > 0).all()
     # Binned on a grid of the triangle's own barycentric coordinates: where each
     # sampled direction meets it, which must be uniform in area.
     hits = []
