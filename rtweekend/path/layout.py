@@ -114,6 +114,8 @@ class Triangles(NamedTuple):
     uvs: np.ndarray        # float64 [T, 6]: (u, v) at P0, P1, P2; [0, 6]: none
     normals: np.ndarray    # float64 [T, 9]: unit vertex normals at P0, P1, P2 (NaN: a
     #                        flat triangle); [0, 9]: no mesh shades smoothly
+    mesh: np.ndarray       # int64 [T]: the object of its mesh's first triangle (the
+    #                        surface photons are gathered on: photons.py)
     groups: np.ndarray     # int64 [G, 3]: the lights list's meshes (mesh_light.py)
     group_cdf: np.ndarray  # float64: their triangles' cumulative areas over the total
     group_area: np.ndarray  # float64 [G]: their areas

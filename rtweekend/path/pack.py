@@ -136,7 +136,7 @@ def pack_scene(scene, bvh=None):
     for shape in scene.objects:
         first[id(shape)] = count
         if shape.kind == "mesh":
-            n = tris.add(shape, obj_f[count:count + shape.primitives])
+            n = tris.add(shape, obj_f[count:count + shape.primitives], count)
             obj_i[count:count + n, OBJ_KIND] = TRIANGLE
         else:
             kinds, rows = zip(*primitives(shape))
@@ -175,12 +175,12 @@ class TriangleTables:
     tables (layout.Triangles) their INDEX column points into."""
 
     def __init__(self):
-        self.count, self.uvs, self.normals = 0, [], []
+        self.count, self.uvs, self.normals, self.mesh = 0, [], [], []
 
-    def add(self, shape, rows):
-        """Write the obj_f rows [F, OBJ_FLOATS] of a mesh shape into rows,
-        placed in the world (its flip_face reverses the winding: the other side
-        is the front); returns F."""
+    def add(self, shape, rows, first_object):
+        """Write the obj_f rows [F, OBJ_FLOATS] of a mesh shape, objects
+        first_object..., into rows, placed in the world (its flip_face reverses
+        the winding: the other side is the front); returns F."""
         vertices, faces, uvs, normals = shape.geometry
         rot, offset = shape.placement()
         world = vertices @ rot.T + offset
@@ -192,6 +192,7 @@ class TriangleTables:
         self.uvs.append((len(faces), uvs[faces].reshape(-1, 6) if uvs is not None else None))
         self.normals.append((len(faces), (normals @ rot.T)[faces].reshape(-1, 9)
                              if normals is not None else None))
+        self.mesh.append(np.full(len(faces), first_object, dtype=np.int64))
         self.count += len(faces)
         return len(faces)
 
@@ -211,7 +212,8 @@ class TriangleTables:
             return None
         uvs = self._table(self.uvs, 6, 0.0)
         normals = self._table(self.normals, 9, np.nan)    # NaN: a flat triangle
-        return Triangles(uvs, normals, *mesh_light.pack(obj_f, mesh_lights))
+        return Triangles(uvs, normals, np.concatenate(self.mesh),
+                         *mesh_light.pack(obj_f, mesh_lights))
 
 
 def dark_sides(arrays):

@@ -294,7 +294,7 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics
             if caustics is not None:
                 z = photons.seen_through(ci, nc)
                 if z > 0:
-                    radiance = add(radiance, photons.caustic_light(caustics, s, cf, ci, z,
+                    radiance = add(radiance, photons.caustic_light(scene, caustics, s, cf, ci, z,
                                                                    params.max_depth))
             nl = 0
             if has_lights:

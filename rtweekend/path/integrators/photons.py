@@ -28,7 +28,8 @@ a direction drawn towards an attractor (pdf.lights_value), followed through
 delta vertices with the adjoint's weight (materials.adjoint); one that reaches
 a lambertian surface after at least one delta vertex is stored there with its
 flux.  The estimate at z is f(z) x (the flux of the map's photons within
-radius r_s of z, on the same object and arriving on z's side) / (pi r_s^2),
+radius r_s of z, on the same surface -- object, or mesh -- and arriving on
+z's side) / (pi r_s^2),
 r_s = r0 (s + 1)^((ALPHA - 1) / 2): the bias (r^2) and the variance (1 / r^2
 per map) both fall as samples add up.  Each map's photons are traced from
 keys of their own and sorted into a hashed grid of cells 2 r_s wide in a fixed
@@ -197,7 +198,7 @@ def trace_photon(scene, params, out_f, out_i, n, textures, smp):
                     out_f[n, POS + c3] = hit.p[c3]
                     out_f[n, FLUX + c3] = flux[c3]
                     out_f[n, CAME + c3] = -d[c3]
-                out_i[n, 0] = kh
+                out_i[n, 0] = shapes.surface(scene, scene.tris, kh)
                 out_i[n, 1] = segments
             return
         wo = neg(d)
@@ -212,8 +213,9 @@ def trace_photon(scene, params, out_f, out_i, n, textures, smp):
 
 @jit_step
 def gather(caustics, m, z, obj, n, ns, albedo, segments_left):
-    """The radiance towards the camera at lambertian point z of object obj (n:
-    its normal on the camera's side, ns its shading normal there) from map m's
+    """The radiance towards the camera at lambertian point z of surface obj
+    (shapes.surface; n: its normal on the camera's side, ns its shading
+    normal there) from map m's
     photons: albedo / pi x flux within the radius / (pi r^2), each photon's
     flux times |cos| about ns over |cos| about n where they differ (a smooth
     mesh: the flux is per unit of the surface's area, the material shades
@@ -275,14 +277,15 @@ def seen_through(ci, nc):
 
 
 @jit_step
-def caustic_light(caustics, s, cf, ci, z, max_depth):
+def caustic_light(scene, caustics, s, cf, ci, z, max_depth):
     """What map s says reaches camera vertex z (seen_through) and goes on
     towards the camera: beta x the gathered radiance."""
     wo = col(cf, z, WO)
     n, ns = col(cf, z, NG), col(cf, z, NS)
     if dot(wo, n) < 0.0:
         n, ns = neg(n), neg(ns)
-    light = gather(caustics, s - caustics.s0, col(cf, z, P), ci[z, OBJ], n, ns,
+    light = gather(caustics, s - caustics.s0, col(cf, z, P),
+                   shapes.surface(scene, scene.tris, ci[z, OBJ]), n, ns,
                    col(cf, z, COLOR), max_depth - z)
     beta = col(cf, z, BETA)
     return (beta[0] * light[0], beta[1] * light[1], beta[2] * light[2])

@@ -113,6 +113,18 @@ def shading_normal(scene, tris, k, p, n_out):
 
 
 @jit_step
+def surface(scene, tris, k):
+    """The surface object k is part of, for what is gathered over a surface
+    (photons.py): a mesh's triangles are one surface (its first triangle's
+    index), any other object its own.  tris: scene.tris, a direct argument."""
+    if tris is None:
+        return k
+    if scene.obj_i[k, OBJ_KIND] == TRIANGLE:
+        return triangle.surface(tris, scene.obj_f, k)
+    return k
+
+
+@jit_step
 def enters(scene, k, n, d):
     """Does a ray leaving object k along d, where its outward normal is n, go
     inside it?  (from_inside of the next segment: where k may be met again)"""
