@@ -1,4 +1,4 @@
-"""The compiled OBJ reader (scene/obj.py) against trimesh: the same
+"""The compiled OBJ reader (io/obj.py) against trimesh: the same
 triangles, texture coordinates and normals, numbers parsed exactly as
 Python's float() parses them, and trimesh's turn for what it does not read."""
 import math
@@ -6,7 +6,8 @@ import math
 import numpy as np
 import pytest
 
-from rtweekend.scene import meshes, obj
+from rtweekend.io import obj
+from rtweekend.scene import meshes
 
 from test_meshes import sphere_mesh
 

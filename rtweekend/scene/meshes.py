@@ -1,4 +1,4 @@
-"""Triangle meshes as plain arrays: read from a file (OBJ by obj.py, or what
+"""Triangle meshes as plain arrays: read from a file (OBJ by io/obj.py, or what
 trimesh reads, the optional `meshes` extra: OBJ, PLY, STL, OFF, glTF/GLB) or
 given directly, and checked.
 
@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import obj
+from ..io import obj
 from .. import memory
 from ..errors import FieldError
 
@@ -24,7 +24,7 @@ INSTALL = "pip install 'rtweekend[meshes]'"
 def read(path):
     """(vertices, faces, uvs, normals) of the mesh file at path (FieldError on
     `file`): uvs and normals None where the file does not give every part's.
-    An OBJ file is read by obj.py where it can, others by trimesh."""
+    An OBJ file is read by io/obj.py where it can, others by trimesh."""
     path = Path(path)
     if not path.is_file():
         raise FieldError("file", f"no such mesh file: {path}")
