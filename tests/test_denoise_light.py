@@ -9,7 +9,9 @@ import numpy as np
 import pytest
 
 import rtweekend as rt
-from rtweekend.path import seen_light
+from rtweekend import memory
+from rtweekend.path import film as films
+from rtweekend.path import pack, seen_light
 from rtweekend.path.materials import dielectric
 
 from stats import block_se, blocks
@@ -164,3 +166,24 @@ def test_the_estimate_has_the_expectation_of_the_renders_samples():
     assert z.size > 100 and np.abs(z).max() < 5.0, np.abs(z).max()
     total = (a - b).sum() / np.sqrt((a_se ** 2 + b_se ** 2).sum())
     assert abs(total) < 5.0, total
+
+
+def test_the_memory_check_counts_what_denoising_holds(monkeypatch):
+    # With just the memory for the feature images, a render with them goes
+    # ahead; denoised (the light seen estimated again, then the filter's
+    # buffers: film.DENOISE_BYTES_PER_PIXEL), it is refused before anything
+    # is allocated.
+    pytest.importorskip("pyoidn", reason="the denoise extra is not installed")
+    scene = rt.load_scene("cornell_box")
+    size = 48
+    features = films.render_bytes(size, size, False, True) + pack.scene_bytes(scene)
+    denoising = films.render_bytes(size, size, False, True, True) + pack.scene_bytes(scene)
+    assert denoising > features
+    monkeypatch.setattr(memory, "available", lambda: (features / memory.SHARE, "MemAvailable"))
+    assert rt.render(scene, width=size, height=size, spp=1, aov="emission").aov
+    allocated = []
+    monkeypatch.setattr(films, "new_film", lambda *a: allocated.append(a))
+    with pytest.raises(rt.SceneError, match="needs about"):
+        rt.render(scene, width=size, height=size, spp=1, denoise=True)
+    assert allocated == []
+

@@ -156,7 +156,8 @@ def _check_memory(scene, options):
     estimator = ESTIMATORS[options.strategy.estimator]
     scene_part = scene_bytes(scene)
     maps = photons.map_bytes(BLOCK_SPP) if options.strategy.photons else 0
-    memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features)
+    memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features,
+                                    bool(options.denoise))
                  + scene_part + maps, width, height, scene=scene_part, objects=len(scene.objects),
                  origin=options.size_origin(scene))
 
