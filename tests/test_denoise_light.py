@@ -115,7 +115,8 @@ def test_the_rays_per_pixel_follow_the_samples_within_the_share_of_the_render():
     n = seen_light.rays_per_pixel
     assert n(10, 1.0, 100, 10**12) == 512                  # 8 x 100, down to a power of 2
     assert n(10, 1.0, 10**6, 10**12) == seen_light.N_MAX
-    assert n(10, 1.0, 0, 10**12) == 0
+    assert n(10, 1.0, 0, 10**12) == 0                      # no sample yet
+    assert n(10, 1.0, 1, 10**12) == seen_light.N_MIN       # 8 x 1, but N_MIN at least
     share = seen_light.SHARE * 10**7
     assert n(1000, 2.0, 100, 10**7) == 64 and 1000 * 64 * 2.0 <= share < 1000 * 128 * 2.0
     assert n(10**6, 1.0, 100, 10**7) == 0                  # below N_MIN: none

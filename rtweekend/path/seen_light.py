@@ -16,9 +16,10 @@ estimates the same light again, with many cheap rays, where it varies:
             SPREAD of the brightest) is marked, and so are its 8 neighbours
             (for what lies between the points)
   refine    a marked pixel gets the mean of n such rays through points of the
-            pixel: n = N_PER_SPP per sample of the render, a power of 2 up to
-            N_MAX, halved while the marked pixels would trace more than SHARE
-            of the render's ray segments; below N_MIN, nothing is refined
+            pixel: n = N_PER_SPP per sample of the render (N_MIN at least,
+            N_MAX at most) down to a power of 2, halved while the marked
+            pixels would trace more than SHARE of the render's ray segments;
+            below N_MIN, nothing is refined
   elsewhere the render's own estimate stays
 
 The refining rays' points in the pixel are an Owen-scrambled Sobol sequence
@@ -229,10 +230,13 @@ def neighbours(marks):
 def rays_per_pixel(marked, per_ray, spp, render_segments):
     """n for `marked` pixels whose rays trace `per_ray` segments, after spp
     samples that traced render_segments: the largest power of 2 (the Sobol
-    points' stratification) up to N_PER_SPP x spp and N_MAX whose segments
-    stay within SHARE of the render's; 0 (refine nothing) below N_MIN."""
-    cap = min(N_MAX, N_PER_SPP * spp)
-    n = 1 << (cap.bit_length() - 1) if cap > 0 else 0
+    points' stratification) up to N_PER_SPP x spp (N_MIN at least, N_MAX at
+    most) whose segments stay within SHARE of the render's; 0 (refine
+    nothing) below N_MIN, or before any sample."""
+    if spp < 1:
+        return 0
+    cap = min(N_MAX, max(N_MIN, N_PER_SPP * spp))
+    n = 1 << (cap.bit_length() - 1)
     while n >= N_MIN and marked * n * per_ray > SHARE * render_segments:
         n //= 2
     return n if n >= N_MIN else 0
