@@ -33,8 +33,10 @@ as the render does; media weigh each segment by their transmittance, the
 chance that the render's ray crosses it.
 
 Unbiased: both estimates a pixel can get, the render's and the refined one,
-have the light seen as their expectation, and which one it gets (and n)
-depends on the pilot's rays only, which are independent of both.
+have the light seen as their expectation, and which one it gets depends on
+the pilot's rays, which are independent of both, and on n, whose budget is
+the render's total of ray segments: a sum over every pixel's samples, of
+which one pixel's are about 1 / (width x height).
 Deterministic: every ray is keyed by (point, index, key), the key being the
 render's seed with bits of this pass's own flipped (PILOT_KEY, REFINE_KEY),
 so that no number of the render's is drawn (its image is the same bits with
