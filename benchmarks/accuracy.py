@@ -68,7 +68,7 @@ BOOKS = {
                           reference="cornell_glass_150", reference_spp=16384),
     # NAME@SIZE: the scene NAME at another size.
     "cornell_glass@300": dict(width=300, height=300, max_spp=512, crop_seconds=6.0,
-                              reference="cornell_glass_300", reference_spp=8192),
+                              reference="cornell_glass_300", reference_spp=110592),
 }
 # Where methods fail (docs/accuracy.md): each breaks one strategy.  tiny_light's own
 # pixels (radiance 2000 on its edges) would measure how each renderer places

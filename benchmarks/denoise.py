@@ -8,10 +8,15 @@ unbiased one, at equal samples, and what it costs.
    (common.reference; a reference of another size is compared after both are
    averaged down to its size, 2x2 pixels to one: the box filter's pixel
    squares nest).  For each: the raw image's RMSE and the denoised image's,
-   denoised four ways -- the colour alone; with albedo and normal, OIDN
+   denoised five ways -- the colour alone; with albedo and normal, OIDN
    prefiltering them (clean_aux False: the default); with them taken as clean
-   (clean_aux True); and what rtweekend does, the light seen emitted kept out
-   of the filter -- and the ratios to the raw RMSE.
+   (clean_aux True); the light seen emitted kept out of the filter and the
+   samples' own estimate of it added back; and what rtweekend does, that light
+   estimated again where it varies (path/seen_light.py) added back -- and the
+   ratios to the raw RMSE.  Each RMSE is given twice: plain, and with the
+   reference's own noise taken out (an image x independent of the reference r
+   has E[(x - r)^2] = (x - truth)^2 + stderr_r^2: the mean of the reference's
+   squared standard errors is subtracted from the mean squared error).
 2. Error against time: one progressive render of the default (1, 2, 4, ...
    --max-spp spp), raw and denoised (its time plus the denoiser's), beside
    Mitsuba 3 (accuracy.py's peer: --peer-python, or in this process) rendering
@@ -22,7 +27,9 @@ unbiased one, at equal samples, and what it costs.
    the noise it removes: beyond it, denoise no more.
 3. Cost: a render of the scene at its own size and spp (cornell_glass:
    600x600, 100 spp) with denoise=True: rendering seconds, denoising seconds
-   and their ratio (after a warm-up render and denoise).
+   (the light seen estimated again, then the filter) and their ratio (after a
+   warm-up render and denoise); and the pass that estimates the light seen
+   again timed alone, with what it did.
 
 Writes benchmark-results/denoise.json and benchmark-results/denoise.png; --quick is a tiny run
 that checks the script.
@@ -39,10 +46,12 @@ from common import machine, parser, reference, save_json  # noqa: E402
 
 import rtweekend as rt  # noqa: E402
 from rtweekend.denoise import denoise, require  # noqa: E402
+from rtweekend.path import seen_light  # noqa: E402
 
 SEED = 2024
 WAYS = ("colour alone", "albedo+normal, prefiltered", "albedo+normal, clean_aux",
-        "rtweekend (light seen kept out)")
+        "light seen kept out, the samples' own added back",
+        "rtweekend (light seen kept out, estimated again)")
 
 
 def down_to(image, shape):
@@ -58,32 +67,54 @@ def rmse(image, ref):
     return float(np.sqrt(np.mean((down_to(image, ref.shape[:2]) - ref) ** 2)))
 
 
-def denoised_ways(result):
-    """{way: image} for the four ways of feeding OIDN."""
+def rmse_clean(image, ref, ref_stderr):
+    """rmse with the reference's own noise taken out: the root of the mean
+    squared error less the mean of the reference's squared standard errors
+    (0 if that is negative)."""
+    mse = np.mean((down_to(image, ref.shape[:2]) - ref) ** 2)
+    return float(np.sqrt(max(mse - np.mean(ref_stderr ** 2), 0.0)))
+
+
+def denoised_ways(renderer, result, threads):
+    """({way: image} for the five ways of feeding OIDN, what the pass that
+    estimates the light seen again did)."""
     import pyoidn
     a = result.aov
     image = np.ascontiguousarray(result.image)
     albedo = np.ascontiguousarray(np.clip(a["albedo"], 0, 1))
     normal = np.ascontiguousarray(np.clip(a["normal"], -1, 1))
+    light, done = seen_light.estimate(renderer.frame, a["emission"], renderer.spp,
+                                      result.stats.rays, threads)
     return {
         WAYS[0]: pyoidn.denoise(image, hdr=True),
         WAYS[1]: pyoidn.denoise(image, albedo=albedo, normal=normal, hdr=True),
         WAYS[2]: pyoidn.denoise(image, albedo=albedo, normal=normal, hdr=True, clean_aux=True),
         WAYS[3]: denoise(image, albedo, normal, a["emission"])[0],
-    }
+        WAYS[4]: denoise(image, albedo, normal, a["emission"], light=light)[0],
+    }, done
 
 
-def error_table(scene, size, spps, threads, ref):
+def error_table(scene, size, spps, threads, ref, ref_stderr):
     rows = []
     for spp in spps:
-        r = rt.render(scene, spp=spp, width=size, height=size, seed=SEED, threads=threads,
-                      aov=("albedo", "normal", "emission"))
-        raw = rmse(r.image, ref)
-        ways = {w: rmse(im, ref) for w, im in denoised_ways(r).items()}
+        r = rt.Renderer(scene, width=size, height=size, seed=SEED, threads=threads,
+                        aov=("albedo", "normal", "emission"))
+        r.add_samples(spp)
+        result = r.result()
+        images, done = denoised_ways(r, result, threads)
+        raw, raw_clean = rmse(result.image, ref), rmse_clean(result.image, ref, ref_stderr)
+        ways = {w: rmse(im, ref) for w, im in images.items()}
+        clean = {w: rmse_clean(im, ref, ref_stderr) for w, im in images.items()}
         rows.append(dict(spp=spp, raw=raw, denoised=ways,
-                         ratio={w: v / raw for w, v in ways.items()}))
-        print(f"  {spp:5d} spp  raw RMSE {raw:.5f}  " + "  ".join(
-            f"{w}: {v / raw:.2f}x" for w, v in ways.items()), flush=True)
+                         ratio={w: v / raw for w, v in ways.items()},
+                         raw_clean=raw_clean, denoised_clean=clean,
+                         ratio_clean={w: v / raw_clean for w, v in clean.items()},
+                         light_seen=done._asdict()))
+        print(f"  {spp:5d} spp  raw RMSE {raw:.5f} ({raw_clean:.5f} without the reference's "
+              f"noise)", flush=True)
+        for w in WAYS:
+            print(f"      {w:50s} {ways[w]:.5f} {ways[w] / raw:.2f}x   "
+                  f"({clean[w]:.5f} {clean[w] / raw_clean:.2f}x)", flush=True)
     return rows
 
 
@@ -159,10 +190,18 @@ def chart(data, path):
 def cost(scene, threads, quick):
     size = dict(width=64, height=64, spp=4) if quick else {}
     rt.render(scene, threads=threads, denoise=True, **dict(size, spp=1))      # warm-up
-    r = rt.render(scene, threads=threads, denoise=True, **size)
-    s = r.stats
+    spp = size.pop("spp", scene.spp)
+    r = rt.Renderer(scene, threads=threads, denoise=True, aov=("emission",), **size)
+    r.compile()
+    r.add_samples(spp)
+    result = r.result()
+    s = result.stats
+    t0 = time.perf_counter()
+    _, done = seen_light.estimate(r.frame, result.aov["emission"], r.spp, s.rays, threads)
+    alone = time.perf_counter() - t0
     return dict(width=s.width, height=s.height, spp=s.spp, render_seconds=s.seconds,
-                denoise_seconds=s.denoise_seconds, share=s.denoise_seconds / s.seconds)
+                denoise_seconds=s.denoise_seconds, share=s.denoise_seconds / s.seconds,
+                light_seen_seconds=alone, light_seen=done._asdict(), render_segments=s.rays)
 
 
 def main(argv=None):
@@ -187,9 +226,12 @@ def main(argv=None):
     start = time.perf_counter()
     print(f"{a.scene} {size}x{size} against {found[2]} (compared at {ref.shape[1]}x"
           f"{ref.shape[0]})")
+    ref_stderr = found[1]
     data = dict(machine=machine(), scene=a.scene, size=size, reference=str(found[2]),
+                reference_rms_stderr=float(np.sqrt(np.mean(ref_stderr ** 2))),
                 threads=a.threads, sampling=rt.Renderer(scene, width=8, height=8)
-                .options.sampling, errors=error_table(scene, size, spps, a.threads, ref))
+                .options.sampling,
+                errors=error_table(scene, size, spps, a.threads, ref, ref_stderr))
     max_spp = 4 if a.quick else a.max_spp
     data["curves"] = curves(scene, size, max_spp, a.threads, ref)
     data["peer"] = peer_curves(a, a.scene, size, max_spp, a.threads, ref)
@@ -197,7 +239,8 @@ def main(argv=None):
     c = data["cost"]
     print(f"cost: {c['width']}x{c['height']} {c['spp']} spp rendered in "
           f"{c['render_seconds']:.2f} s, denoised in {c['denoise_seconds']:.3f} s "
-          f"({100 * c['share']:.1f}%)")
+          f"({100 * c['share']:.1f}%), of which the light seen estimated again "
+          f"{c['light_seen_seconds']:.3f} s (timed alone): {c['light_seen']}")
     data["total_seconds"] = time.perf_counter() - start
     save_json("denoise.json", data, a.out)
     chart(data, a.out / "denoise.png")

@@ -28,7 +28,8 @@ class RenderStats:
     partial_rows: int = 0    # rows that have partial_spp samples more than spp (a pass
     partial_spp: int = 0     # over part of the rows, interrupted)
     compiled: bool = False   # the kernels were compiled (not loaded from the cache)
-    denoise_seconds: float | None = None   # Open Image Denoise's time, when asked for
+    denoise_seconds: float | None = None   # the denoiser's time, when asked for (seen_light.py's
+    #                                        pass and Open Image Denoise)
     sampling: str | None = None   # the path tracer's strategy (options.SAMPLINGS)
 
     @property

@@ -270,6 +270,9 @@ def test_denoise_benchmark_quick(tmp_path):
     data = json.loads((tmp_path / "denoise.json").read_text())
     assert [row["spp"] for row in data["errors"]] == [1, 2]
     assert all(0 < v for row in data["errors"] for v in row["denoised"].values())
+    for row in data["errors"]:              # without the reference's noise: no larger
+        assert 0 <= row["raw_clean"] <= row["raw"]
+        assert all(0 <= row["denoised_clean"][w] <= v for w, v in row["denoised"].items())
     assert [row["spp"] for row in data["curves"]] == [1, 2, 4]
     assert data["peer"] is None and 0 < data["cost"]["share"]
     assert (tmp_path / "denoise.png").stat().st_size > 10_000

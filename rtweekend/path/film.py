@@ -95,12 +95,21 @@ def film_bytes(height, width, splats=False, aov=False):
 # kernels hold no per-thread buffers (a path is scalars); writing the file
 # (about 80 bytes per pixel) comes after the film is freed.
 RESULT_BYTES_PER_PIXEL = 200
+# Denoising, from the sums to the denoised image: the light seen estimated
+# again (seen_light.py: 160 bytes per pixel at its peak, freed before the
+# filter but for its result), then Open Image Denoise's inputs, buffers and
+# output.  Measured as the growth of the process's peak resident memory over
+# Renderer.result at 1500x1500: 734 bytes per pixel (718 before the light seen
+# was estimated again), with a margin.
+DENOISE_BYTES_PER_PIXEL = 900
 
 
-def render_bytes(height, width, splats=False, aov=False):
+def render_bytes(height, width, splats=False, aov=False, denoise=False):
     """About the most memory a render of this size holds at once."""
-    return film_bytes(height, width, splats, aov) + \
-        RESULT_BYTES_PER_PIXEL * (4 if aov else 1) * height * width
+    result = RESULT_BYTES_PER_PIXEL * (4 if aov else 1)
+    if denoise:
+        result = max(result, DENOISE_BYTES_PER_PIXEL)
+    return film_bytes(height, width, splats, aov) + result * height * width
 
 
 def merge(film, other):

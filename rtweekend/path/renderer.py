@@ -25,6 +25,7 @@ from ..options import RenderOptions, photons_serve, thread_count
 from ..result import RenderResult, RenderStats
 from ..scene.scene import Scene
 from . import film as films
+from . import seen_light
 from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
 from .integrators import ESTIMATORS, photons
@@ -155,7 +156,8 @@ def _check_memory(scene, options):
     estimator = ESTIMATORS[options.strategy.estimator]
     scene_part = scene_bytes(scene)
     maps = photons.map_bytes(BLOCK_SPP) if options.strategy.photons else 0
-    memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features)
+    memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features,
+                                    bool(options.denoise))
                  + scene_part + maps, width, height, scene=scene_part, objects=len(scene.objects),
                  primitives=sum(shape.primitives for shape in scene.objects),
                  origin=options.size_origin(scene))
@@ -190,10 +192,13 @@ class Renderer:
         self._preview = None       # show()'s display in a notebook
 
     def compile(self) -> float:
-        """Compile the kernel (or load it from the cache) with no samples."""
+        """Compile the kernel (or load it from the cache) with no samples; and the
+        denoiser's pass (seen_light.py) when the options denoise."""
         t0 = _time.perf_counter()
         with collector_paused(), thread_count(self.options.threads):
             render_samples(self.frame, self.film, 0, 0)
+            if self.options.denoise:
+                seen_light.compile_for(self.frame)
         self.compile_seconds = _time.perf_counter() - t0
         return self.compile_seconds
 
@@ -293,6 +298,11 @@ class Renderer:
         features = films.features(self.film, samples)
         denoised = None
         if denoise:
-            denoised, stats.denoise_seconds = denoise_image(image, **features)
+            t0 = _time.perf_counter()
+            with thread_count(self.options.threads) as threads:
+                light, _ = seen_light.estimate(self.frame, features["emission"],
+                                               int(samples.max()), stats.rays, threads)
+            denoised, _ = denoise_image(image, **features, light=light)
+            stats.denoise_seconds = _time.perf_counter() - t0
         layers = {**features, "stderr": stderr}
         return RenderResult(image, stats, stderr, {k: layers[k] for k in wanted}, denoised)

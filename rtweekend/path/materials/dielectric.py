@@ -36,6 +36,20 @@ def scatter_at(d, n, front_face, ior, u):
 
 
 @jit_step
+def branches(d, n, front_face, ior):
+    """scatter_at's two directions and the chance it picks the first:
+    (reflected, refracted, reflectance); under total internal reflection the
+    reflectance is 1 and the refracted direction is the reflected one."""
+    ratio = 1.0 / ior if front_face else ior
+    cos_theta = min(-dot(d, n), 1.0)
+    sin_theta = math.sqrt(max(0.0, 1.0 - cos_theta * cos_theta))
+    r = reflect(d, n)
+    if ratio * sin_theta > 1.0:
+        return r, r, 1.0
+    return r, refract(d, n, ratio), schlick(cos_theta, ratio)
+
+
+@jit_step
 def adjoint_weight(cos_from, cos_to, front_face, ior):
     """The weight of a refraction for light followed from its source, from the
     side where the light meets the surface at cos_from to the other at cos_to.
