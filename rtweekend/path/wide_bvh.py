@@ -33,9 +33,8 @@ Nodes are numbered depth first.
 A leaf holds at most MERGE objects (bvh_build.LEAF_SIZE is smaller): three
 blocks at most.
 
-A scene without a hierarchy (bvh=False, or few objects) gets one node whose
-one child, with an infinite box, is a leaf of every object (as many blocks
-as it takes).
+A scene without a hierarchy (bvh=False, or few objects) has none of this: its
+search tests every object (bvh.py).
 
 Which hit is nearest depends neither on the tree nor on the order of the
 walk (tests/test_hittables.py: the same objects and distances, bit for bit,
@@ -69,16 +68,9 @@ STACK = (WIDTH - 1) * (MEDIAN_FROM_DEPTH + 32)
 
 def wide_tables(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, triangles=True):
     """(box, child, leaf_prim, leaf_tri) of layout.WideBVH for the binary tree
-    (bvh_box, bvh_node, bvh_prims); with no tree, one leaf of bvh_prims.
+    (bvh_box, bvh_node, bvh_prims: bvh_build.build_bvh's, at least one node).
     triangles: the scene has some (else leaf_tri is empty: never read)."""
-    if bvh_node.shape[0] == 0:
-        wide_box = np.empty((1, 6, WIDTH))
-        wide_box[0, :3], wide_box[0, 3:] = np.inf, -np.inf      # empty boxes but
-        wide_box[0, :3, 0], wide_box[0, 3:, 0] = -np.inf, np.inf  # one: everything
-        wide_child = np.zeros((1, WIDTH), dtype=np.int64)
-        wide_child[0, 0] = -1 - len(bvh_prims)      # first 0, count: all
-    else:
-        wide_box, wide_child = _collapse(bvh_box, bvh_node, MERGE)
+    wide_box, wide_child = _collapse(bvh_box, bvh_node, MERGE)
     blocks = _count_blocks(wide_child)
     leaf_prim = np.full(blocks * WIDTH, NO_HIT, dtype=np.int64)
     leaf_tri = np.full((blocks if triangles else 0, 9, WIDTH), np.nan)
