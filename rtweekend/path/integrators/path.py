@@ -142,7 +142,8 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
                                         use_lights, smp, time)
     from_inside = shapes.enters(scene, hit.obj, hit.n_out, d)
     if not (use_lights or events is not None):
-        return shadow, d, from_inside, weight, 0.0, True, smp   # the material's own draw
+        # The material's own draw; one behind a smooth mesh's triangle is absorbed.
+        return shadow, d, from_inside, weight, 0.0, not materials.behind(bsdf, d), smp
     density = nee.continuation_pdf(scene, bsdf, wo, hit.p, lw, d, hit.obj, from_inside, time)
     att, scattering = materials.eval(bsdf, wo, d, 1.0)
     # A direction below the surface, or one no component can make, carries no

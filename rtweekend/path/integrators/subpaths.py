@@ -52,6 +52,8 @@ def bounce(bsdf, wo, smp):
     if bsdf.kind == LAMBERTIAN:
         u1, u2, smp = sampler.next_2d(smp)
         wi = lambertian.cosine_lobe(bsdf.n, u1, u2)
+        if materials.behind(bsdf, wi):
+            return wi, bsdf.albedo, 0.0, False, smp     # absorbed (materials.behind)
         return wi, bsdf.albedo, lambertian.pdf(bsdf.n, wi), False, smp
     return materials.sample(bsdf, wo, smp)
 

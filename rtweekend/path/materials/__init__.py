@@ -26,7 +26,9 @@ Directions point away from the surface: wo towards where the light goes (the
 camera side, -d for a ray along d), wi the other direction of the pair.  The
 record's normal is the shading normal on wo's side (Surface.n; a smooth mesh's
 interpolated vertex normal, else the geometric one, ng), its colour the
-material's at the hit (Surface.albedo: textured or not).
+material's at the hit (Surface.albedo: textured or not).  Where the two
+normals differ, a lambertian scatters only to directions on the true surface's
+side too (`behind`): the shading normal alone would let light through it.
 
 eval returns f(wo, wi) |cos theta_i| as attenuation x scattering: the books'
 attenuation (an RGB) and their scattering_pdf (a number), the way their
@@ -154,6 +156,21 @@ def adjoint(bsdf, wo, wi):
 
 
 @jit_step
+def behind(bsdf, wi):
+    """Is wi on the far side of the true surface (the geometric normal ng, on
+    wo's side) where the shading normal differs from it (a smooth mesh)?  The
+    shading normal's hemisphere may reach below the triangle; a ray leaving
+    there passes through it (it skips its own triangle), so a lambertian that
+    scattered there would let a light behind the surface light its front.
+    Such directions are absorbed (pbrt-v3's BSDF::f does the same).  False
+    where n is ng: every other surface keeps its arithmetic and its bits."""
+    n, ng = bsdf.n, bsdf.ng
+    if n[0] == ng[0] and n[1] == ng[1] and n[2] == ng[2]:
+        return False
+    return dot(wi, ng) <= 0.0
+
+
+@jit_step
 def shading_adjoint(bsdf, wo, wi):
     """What light arriving along -wo and leaving along wi takes beside f |cos|
     where the shading normal n is not the geometric ng (a smooth mesh):
@@ -174,7 +191,10 @@ def sample_at(bsdf, u1, u2):
     """(wi, weight, pdf) of a smooth material's sampling for the 2-D point
     (u1, u2) (the mixture's share of it: pdf.py); delta materials have none."""
     if bsdf.kind == LAMBERTIAN:
-        return lambertian.sample_at(bsdf.albedo, bsdf.n, u1, u2)
+        wi, weight, p = lambertian.sample_at(bsdf.albedo, bsdf.n, u1, u2)
+        if behind(bsdf, wi):
+            return wi, NO_COLOR, 0.0            # absorbed, as pdf says
+        return wi, weight, p
     return NO_DIRECTION, NO_COLOR, 0.0
 
 
@@ -183,6 +203,8 @@ def eval(bsdf, wo, wi, scale):
     """(attenuation, scattering): their product is scale x f(wo, wi) |cos theta_i|
     (0 for delta materials and lights)."""
     if bsdf.kind == LAMBERTIAN:
+        if behind(bsdf, wi):
+            return bsdf.albedo, 0.0
         return lambertian.eval_scaled(bsdf.albedo, bsdf.n, wi, scale)
     return NO_COLOR, 0.0
 
@@ -192,5 +214,7 @@ def pdf(bsdf, wo, wi):
     """Solid-angle density of wi under sample() given wo (0 for delta materials);
     pdf(bsdf', wi, wo), with the normal on wi's side, is the reverse density."""
     if bsdf.kind == LAMBERTIAN:
+        if behind(bsdf, wi):
+            return 0.0
         return lambertian.pdf(bsdf.n, wi)
     return 0.0
