@@ -16,11 +16,11 @@ from stats import block_z
 
 
 @njit
-def _gather_all(caustics, m, points, obj, n, albedo, left):
+def _gather_all(caustics, m, points, obj, n, ns, albedo, left):
     out = np.zeros((points.shape[0], 3))
     for i in range(points.shape[0]):
         z = (points[i, 0], points[i, 1], points[i, 2])
-        out[i] = photons.gather(caustics, m, z, obj, n, n, albedo, left)
+        out[i] = photons.gather(caustics, m, z, obj, n, ns, albedo, left)
     return out
 
 
@@ -44,17 +44,28 @@ def test_the_grid_finds_every_photon_within_the_radius_once():
     caustics = photons.grid(caustics, maps_f, maps_i, 7)
     points = rng.uniform(-20, 20, (500, 3)) * [1, 0.05, 1]
     n, albedo = (0.0, 1.0, 0.0), (0.5, 0.7, 0.9)
-    for m in range(3):
-        r = photons.radius(3.0, 7 + m)
-        got = _gather_all(caustics, m, points, 1, n, albedo, 4)
-        f, i = maps_f[m], maps_i[m]
-        for p, g in zip(points, got):
-            d2 = ((f[:, :3] - p) ** 2).sum(axis=1)
-            keep = (d2 < r * r) & (i[:, 0] == 1) & (i[:, 1] <= 4) & (f[:, photons.CAME + 1] > 0)
-            want = np.array(albedo) * f[keep, photons.FLUX:photons.FLUX + 3].sum(axis=0) / (
-                math.pi * math.pi * r * r)
-            assert np.allclose(g, want, rtol=1e-12, atol=0), (m, p)
-        assert (got > 0).mean() > 0.5
+    # A smooth surface too: a shading normal 50 degrees off the plane's takes
+    # each photon's flux times |cos| about it over |cos| about the plane's,
+    # and none from below it (there the lambertian's f is 0).
+    tilt = math.radians(50)
+    for ns in (n, (math.sin(tilt), math.cos(tilt), 0.0)):
+        came = np.concatenate([f[:, photons.CAME:photons.CAME + 3] for f in maps_f])
+        cos_s = came @ np.array(ns)
+        assert ns == n or ((cos_s < 0) & (came[:, 1] > 0)).mean() > 0.05
+        for m in range(3):
+            r = photons.radius(3.0, 7 + m)
+            got = _gather_all(caustics, m, points, 1, n, ns, albedo, 4)
+            f, i = maps_f[m], maps_i[m]
+            c_g = f[:, photons.CAME + 1]
+            c_s = f[:, photons.CAME:photons.CAME + 3] @ np.array(ns)
+            for p, g in zip(points, got):
+                d2 = ((f[:, :3] - p) ** 2).sum(axis=1)
+                keep = (d2 < r * r) & (i[:, 0] == 1) & (i[:, 1] <= 4) & (c_g > 0) & (c_s > 0)
+                a = c_s[keep] / c_g[keep]
+                flux = (f[keep, photons.FLUX:photons.FLUX + 3] * a[:, None]).sum(axis=0)
+                want = np.array(albedo) * flux / (math.pi * math.pi * r * r)
+                assert np.allclose(g, want, rtol=1e-12, atol=0), (m, p, ns)
+            assert (got > 0).mean() > 0.5
 
 
 def test_the_radius_shrinks_as_knaus_and_zwicker_say():

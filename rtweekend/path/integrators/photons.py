@@ -252,8 +252,12 @@ def gather(caustics, m, z, obj, n, ns, albedo, segments_left):
             if cos_g <= 0.0:
                 continue                    # lit from the other side
             if smooth:
-                a = abs(pf[q, CAME] * ns[0] + pf[q, CAME + 1] * ns[1] +
-                        pf[q, CAME + 2] * ns[2]) / cos_g
+                # Below the shading normal the lambertian's f is 0 (as for the
+                # strategies the maps stand in for).
+                c_s = pf[q, CAME] * ns[0] + pf[q, CAME + 1] * ns[1] + pf[q, CAME + 2] * ns[2]
+                if c_s <= 0.0:
+                    continue
+                a = c_s / cos_g
                 total = (total[0] + pf[q, FLUX] * a, total[1] + pf[q, FLUX + 1] * a,
                          total[2] + pf[q, FLUX + 2] * a)
             else:
