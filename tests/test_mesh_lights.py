@@ -99,3 +99,28 @@ def test_a_mesh_in_the_lights_list_gives_lambert_polygon_irradiance(sampling):
     got, se = float(r.image[0, 0, 0]), float(r.stderr[0, 0, 0])
     assert abs(got - expected) < 5 * se + 1e-9, (got, expected, se)
     assert se < 0.02 * expected
+
+
+def test_the_density_walks_the_hierarchy_as_the_flat_loop_does():
+    # A bumpy (non-convex) ball of 1,520 triangles beside a floor and a sphere:
+    # with a hierarchy, the density's all-hits walk (wide_bvh.solid_angle_sum)
+    # must sum the same triangles as the loop over every object does without
+    # one (the order of the sum may differ: its last bits), and integrate to 1.
+    from test_meshes import sphere_mesh
+    v, f = sphere_mesh(20, 40, radius=1.0, center=(0, 2, 0))
+    v = v + np.random.default_rng(1).normal(scale=0.05, size=v.shape)
+    scene = rt.Scene()
+    scene.add(rt.xz_rect(-50, 50, -50, 50, 0, GREY))
+    scene.add(rt.sphere((3, 1, 0), 1.0, GREY))
+    scene.add(rt.mesh((v, f), rt.diffuse_light((4, 4, 4))), light=True)
+    tree, flat = pack_scene(scene, bvh=True), pack_scene(scene, bvh=False)
+    assert tree.wide is not None and flat.wide is None
+    k = int(tree.lights[0])
+    assert k == int(flat.lights[0])
+    dirs = uniform_directions(200_000, 7)
+    for p in [(0.1, 0.2, -0.4), (0.0, 2.0, 0.0), (2.5, 2.5, 2.5)]:
+        a, b = light_densities(tree, k, p, dirs), light_densities(flat, k, p, dirs)
+        np.testing.assert_allclose(a, b, rtol=1e-12, atol=0)
+        assert (a > 0).mean() > 0.01
+        v4 = a * 4 * math.pi
+        assert abs(v4.mean() - 1.0) < 5 * v4.std() / math.sqrt(len(v4)), (p, v4.mean())
