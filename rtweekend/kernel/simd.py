@@ -9,10 +9,11 @@ tested together make incoherent rays 1.2x as fast again (benchmarks/meshes.py,
 docs/performance.md).
 
 The arithmetic is the scalar code's, lane by lane and in the same order --
-Numba's own max and min (max(p, q) = q if q > p else p, so a NaN from 0 x inf
-takes the other operand), shapes/triangle.py's edge functions, determinant
-and scaled distance -- so the same children are entered, and the same hits
-found, as by the scalar code, bit for bit (tests/test_simd.py).
+Numba's own max and min (max(p, q) = q if q > p else p: a NaN from 0 x inf
+as q gives p, as p stays NaN, as in the scalar slab test), shapes/triangle.py's
+edge functions, determinant and scaled distance -- so the same children are
+entered, and the same hits found, as by the scalar code, bit for bit
+(tests/test_simd.py).
 """
 import math
 

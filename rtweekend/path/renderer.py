@@ -179,7 +179,8 @@ class Renderer:
         for doubt in scene.doubts():
             warnings.warn(doubt, SceneWarning, stacklevel=2)
         _check_memory(scene, options)
-        self.frame = freeze(scene, options)
+        with thread_count(options.threads):     # the BVH is built on threads too
+            self.frame = freeze(scene, options)
         self.width, self.height = self.frame.width, self.frame.height
         self.name = scene.name     # what a preview calls the image
         self.film = films.new_film(self.height, self.width, splats(self.frame), self.frame.aov)
