@@ -28,6 +28,7 @@ def read(path):
     path = Path(path)
     if not path.is_file():
         raise FieldError("file", f"no such mesh file: {path}")
+    unread = None
     if path.suffix.lower() == ".obj":
         def fits(needed, triangles):
             _fits(path, needed + path.stat().st_size, f"its {triangles:,} triangles")
@@ -35,11 +36,15 @@ def read(path):
             mesh = obj.read(path, fits)
         except OSError as e:
             raise FieldError("file", f"cannot read the mesh {path}: {e}") from None
-        if mesh is not None:
+        except obj.Unread as e:
+            unread = str(e)             # trimesh's turn
+        except obj.ObjError as e:
+            raise FieldError("file", str(e)) from None
+        else:
             if len(mesh[1]) == 0:
                 raise FieldError("file", f"{path} holds no triangles")
             return mesh
-    return read_with_trimesh(path)
+    return read_with_trimesh(path, unread)
 
 
 def _fits(path, needed, what):
@@ -56,11 +61,15 @@ def _fits(path, needed, what):
 TRIMESH_BYTES_PER_FILE_BYTE = 4
 
 
-def read_with_trimesh(path):
-    """read(), by trimesh for every format."""
+def read_with_trimesh(path, unread=None):
+    """read(), by trimesh for every format; unread: why the OBJ reader did
+    not read it (obj.Unread's message), said if trimesh is not installed."""
     try:
         import trimesh
     except ImportError:
+        if unread:
+            raise FieldError("file", f"{unread}, which rtweekend's OBJ reader does not "
+                             f"read; trimesh may: {INSTALL}") from None
         raise FieldError("file", f"reading mesh files needs trimesh: {INSTALL}") from None
     path = Path(path)
     _fits(path, TRIMESH_BYTES_PER_FILE_BYTE * path.stat().st_size, "its contents")
