@@ -133,6 +133,31 @@ def test_a_comment_ends_any_line(tmp_path):
         obj.read(tmp_path / "short.obj")
 
 
+@pytest.mark.parametrize("face, message", [
+    ("f 0 1 2", "line 7: corner '0' names vertex 0 (OBJ indices start at 1, or count back "
+                "from -1)"),
+    ("f 1 2 4", "line 7: corner '4' names vertex 4, but the file has 3 vertices"),
+    ("f 1 2 3\nf 1 2 3 1 9", "line 8: corner '9' names vertex 9, but the file has 3 vertices"),
+    ("f -1 -2 -4", "line 7: corner '-4' counts back 4 vertices, but 3 are before this line"),
+    ("f 1/1/1 2/2/1 3/3/1", "line 7: corner '2/2/1' names texture coordinate 2, but the "
+                            "file has 1 texture coordinate"),
+    ("f 1/1/1 2/1/1 3/1/-2", "line 7: corner '3/1/-2' counts back 2 normals, but 1 is "
+                             "before this line"),
+    ("f 1//1 2//0 3//1", "line 7: corner '2//0' names normal 0 (OBJ indices"),
+])
+def test_a_face_naming_what_the_file_does_not_have_names_its_line(tmp_path, face, message):
+    # Such a face was left for the mesh check, which named it after fan
+    # triangulation, zero-based, 0 shown as -1 ("face 0 refers to vertex [-1,
+    # 0, 1]"), and a uv or normal out of range dropped every uv or normal.
+    text = f"# made by hand\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n{face}\n"
+    (tmp_path / "bad.obj").write_text(text)
+    with pytest.raises(obj.ObjError) as e:
+        obj.read(tmp_path / "bad.obj")
+    assert not isinstance(e.value, obj.Unread)
+    assert str(e.value).startswith(f"{tmp_path / 'bad.obj'}, line ")
+    assert message in str(e.value), str(e.value)
+
+
 def test_an_obj_file_is_read_without_trimesh(tmp_path, monkeypatch):
     import builtins
     real = builtins.__import__

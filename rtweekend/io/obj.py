@@ -8,7 +8,9 @@ vertices read so far) -- and skips the rest (`o`, `g`, `s`, `usemtl`,
 `mtllib`, `l`, comments; a `#` ends any line).  Anything else -- a line
 continued with a backslash, a word where a number should be (`nan`), a
 corner of another form -- raises Unread naming the line, and the caller
-reads the file with trimesh instead (meshes.read).
+reads the file with trimesh instead (meshes.read).  A face naming index 0,
+or a vertex, texture coordinate or normal the file does not have, raises
+ObjError naming the line (trimesh would not say where, or take 0 as -1).
 
 Numbers are correctly rounded, as Python's float() rounds them: a decimal of
 at most 15 significant digits is an integer m < 2^53 times 10^e, and with
@@ -249,6 +251,14 @@ def _scan(text, pow10, fill, v, vt, vn, corners, hard):
                 corner, states, j, ok = _corner(text, j, end, nv, nvt, nvn)
                 if not ok:
                     return nv, nvt, nvn, nt, nh, NOT_CORNER, 0, i, word
+                for s in range(3):
+                    if states[s] == ZERO:
+                        return nv, nvt, nvn, nt, nh, ZERO_INDEX, s, i, word
+                    if states[s] == PRESENT:
+                        size = v.shape[0] if s == 0 else (vt.shape[0] if s == 1
+                                                          else vn.shape[0])
+                        if corner[s] < 0 or (fill and corner[s] >= size):
+                            return nv, nvt, nvn, nt, nh, OUT_OF_RANGE, s, i, word
                 if m == 0:
                     first = corner
                 elif m >= 2:                            # a fan from the first corner
@@ -311,7 +321,8 @@ def _stopped(path, text, status, part, line, word, totals, seen):
 def read(path, fits=None):
     """(vertices, faces, uvs, normals) of the OBJ file at path, as
     meshes.read gives them.  Unread if it holds what this reader does not
-    read exactly (the caller then uses trimesh).  fits(bytes, triangles), if given, is
+    read exactly (the caller then uses trimesh), ObjError for a face that
+    names what is not in the file.  fits(bytes, triangles), if given, is
     asked once the lines are counted, before the arrays are made (it raises
     if they would not fit in memory)."""
     text = np.fromfile(path, dtype=np.uint8)
@@ -328,19 +339,19 @@ def read(path, fits=None):
     v, vt, vn = np.empty((nv, 3)), np.empty((nvt, 2)), np.empty((nvn, 3))
     corners = np.empty((nt, 3, 3), dtype=np.int64)
     hard = np.empty((nh, 5), dtype=np.int64)
-    _scan(text, _POW10, True, v, vt, vn, corners, hard)
+    _, _, _, _, _, status, part, line, word = _scan(text, _POW10, True, v, vt, vn, corners, hard)
+    if status != READ:              # an index beyond the file's tables
+        raise _stopped(path, text, status, part, line, word, (nv, nvt, nvn), None)
     tables = {V: v, VT: vt, VN: vn}
     for kind, row, column, start, end in hard:      # beyond the fast path: float()
         tables[kind][row, column] = float(text[start:end].tobytes())
     vi, ti, ni = corners[:, :, 0], corners[:, :, 1], corners[:, :, 2]
-    # Indices out of range are left for meshes.check to name; a corner's uv or
-    # normal counts only if every corner has one and all are in range.
-    has_uv = nt > 0 and (ti >= 0).all() and (ti < nvt).all()
-    has_n = nt > 0 and (ni >= 0).all() and (ni < nvn).all()
+    # Every index is in range (_scan); a corner's uv or normal counts only if
+    # every corner names one.
+    has_uv = nt > 0 and (ti >= 0).all()
+    has_n = nt > 0 and (ni >= 0).all()
     if not has_uv and not has_n:
         return v, vi, None, None
-    if (vi < 0).any() or (vi >= nv).any():
-        raise Unread(f"{path}: a face names a vertex the file does not have")
     if nv * max(nvt, 1) * max(nvn, 1) >= 2 ** 62:
         raise Unread(f"{path}: too many vertices, texture coordinates and normals to pair")
     # A vertex for each different (v, vt, vn) the corners name.
