@@ -9,7 +9,9 @@ import pytest
 from rtweekend.io import obj
 from rtweekend.scene import meshes
 
-from test_meshes import sphere_mesh
+import rtweekend as rt
+
+from test_meshes import GREY, sphere_mesh
 
 
 def _corners(mesh):
@@ -108,7 +110,52 @@ def test_numbers_are_parsed_as_python_parses_them(tmp_path):
 ])
 def test_what_it_cannot_read_exactly_is_left_to_trimesh(tmp_path, text):
     (tmp_path / "odd.obj").write_text(text)
-    assert obj.read(tmp_path / "odd.obj") is None
+    with pytest.raises(obj.Unread, match=r"odd.obj, line [14]: "):
+        obj.read(tmp_path / "odd.obj")
+
+
+def test_a_comment_ends_any_line(tmp_path):
+    # Exporters put comments after faces ('f 1 2 3 # tri'), which sent the file
+    # to trimesh (and failed there: "could not be read to its end").
+    text = ("v 0 0 0 # origin\nv 1 0 0#x\nv 0 1 0\t# y\nvt 0 0 # uv\nvt 1 0\nvt 0 1#\n"
+            "vn 0 0 1 # up\nf 1/1/1 2/2/1 3/3/1 # tri\nf 1/1/1 3/3/1 2/2/1#back\n"
+            "# a comment \\\nf 2/2/1 3/3/1 1/1/1 #\n")
+    (tmp_path / "notes.obj").write_text(text)
+    v, f, uv, n = obj.read(tmp_path / "notes.obj")
+    np.testing.assert_array_equal(v[f], [[[0, 0, 0], [1, 0, 0], [0, 1, 0]],
+                                         [[0, 0, 0], [0, 1, 0], [1, 0, 0]],
+                                         [[1, 0, 0], [0, 1, 0], [0, 0, 0]]])
+    np.testing.assert_array_equal(uv[f][0], [[0, 0], [1, 0], [0, 1]])
+    np.testing.assert_array_equal(n, [[0, 0, 1]] * len(v))
+    # A comment where a number should be: too few numbers, on that line.
+    (tmp_path / "short.obj").write_text("v 0 0 0\nv 1 0 # z?\n")
+    with pytest.raises(obj.Unread, match=r"short.obj, line 2: too few numbers after 'v'$"):
+        obj.read(tmp_path / "short.obj")
+
+
+@pytest.mark.parametrize("face, message", [
+    ("f 0 1 2", "line 7: corner '0' names vertex 0 (OBJ indices start at 1, or count back "
+                "from -1)"),
+    ("f 1 2 4", "line 7: corner '4' names vertex 4, but the file has 3 vertices"),
+    ("f 1 2 3\nf 1 2 3 1 9", "line 8: corner '9' names vertex 9, but the file has 3 vertices"),
+    ("f -1 -2 -4", "line 7: corner '-4' counts back 4 vertices, but 3 are before this line"),
+    ("f 1/1/1 2/2/1 3/3/1", "line 7: corner '2/2/1' names texture coordinate 2, but the "
+                            "file has 1 texture coordinate"),
+    ("f 1/1/1 2/1/1 3/1/-2", "line 7: corner '3/1/-2' counts back 2 normals, but 1 is "
+                             "before this line"),
+    ("f 1//1 2//0 3//1", "line 7: corner '2//0' names normal 0 (OBJ indices"),
+])
+def test_a_face_naming_what_the_file_does_not_have_names_its_line(tmp_path, face, message):
+    # Such a face was left for the mesh check, which named it after fan
+    # triangulation, zero-based, 0 shown as -1 ("face 0 refers to vertex [-1,
+    # 0, 1]"), and a uv or normal out of range dropped every uv or normal.
+    text = f"# made by hand\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n{face}\n"
+    (tmp_path / "bad.obj").write_text(text)
+    with pytest.raises(obj.ObjError) as e:
+        obj.read(tmp_path / "bad.obj")
+    assert not isinstance(e.value, obj.Unread)
+    assert str(e.value).startswith(f"{tmp_path / 'bad.obj'}, line ")
+    assert message in str(e.value), str(e.value)
 
 
 def test_an_obj_file_is_read_without_trimesh(tmp_path, monkeypatch):
@@ -126,6 +173,13 @@ def test_an_obj_file_is_read_without_trimesh(tmp_path, monkeypatch):
     (tmp_path / "tri.ply").write_text("ply\n")
     with pytest.raises(Exception, match="needs trimesh"):
         meshes.read(tmp_path / "tri.ply")
+    # A line it does not read: named, not "reading mesh files needs trimesh".
+    (tmp_path / "odd.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1/ 2/ 3/\n")
+    with pytest.raises(rt.SceneError) as e:
+        rt.mesh(tmp_path / "odd.obj", GREY)
+    assert str(e.value) == (f"mesh: file: {tmp_path / 'odd.obj'}, line 5: '1/' is not a face "
+                            f"corner (v, v/vt, v//vn or v/vt/vn), which rtweekend's OBJ reader "
+                            f"does not read; trimesh may: {meshes.INSTALL}")
 
 
 def test_a_mesh_file_too_big_for_memory_is_refused_before_it_is_read(tmp_path, monkeypatch):

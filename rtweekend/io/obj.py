@@ -5,10 +5,12 @@ in about 3 s, which was a fifth of a whole render of it.  This reads the
 lines rtweekend needs -- `v`, `vt`, `vn` and `f` (polygons as fans, corners
 `v`, `v/vt`, `v//vn`, `v/vt/vn`, negative indices counted back from the
 vertices read so far) -- and skips the rest (`o`, `g`, `s`, `usemtl`,
-`mtllib`, `l`, comments).  Anything else -- a line continued with a
-backslash, a word where a number should be (`nan`), a corner of another
-form -- makes it answer None, and the caller reads the file with trimesh
-instead (meshes.read).
+`mtllib`, `l`, comments; a `#` ends any line).  Anything else -- a line
+continued with a backslash, a word where a number should be (`nan`), a
+corner of another form -- raises Unread naming the line, and the caller
+reads the file with trimesh instead (meshes.read).  A face naming index 0,
+or a vertex, texture coordinate or normal the file does not have, raises
+ObjError naming the line (trimesh would not say where, or take 0 as -1).
 
 Numbers are correctly rounded, as Python's float() rounds them: a decimal of
 at most 15 significant digits is an integer m < 2^53 times 10^e, and with
@@ -65,6 +67,14 @@ def _end(text, i, n):
     return i
 
 
+@njit(cache=True)
+def _stop(c):
+    """Whether c ends a number or a corner: a space, or a '#' (a comment to
+    the end of the line; checked here, where a word ends, rather than for
+    every character of the file)."""
+    return _space(c) or c == 35
+
+
 EXACT, HARD, BAD = 0, 1, 2
 
 
@@ -117,7 +127,7 @@ def _number(text, i, end, pow10):
             e = min(e * 10 + (text[i] - 48), 100000)
             i += 1
         exp10 += sign * e
-    if i < end and not _space(text[i]):
+    if i < end and not _stop(text[i]):
         return 0.0, start, i, BAD
     if m == 0:
         value = 0.0
@@ -130,11 +140,16 @@ def _number(text, i, end, pow10):
     return -value if negative else value, start, i, EXACT
 
 
+# An index of a corner: not there, one, or 0 (which names nothing).
+ABSENT, PRESENT, ZERO = 0, 1, 2
+
+
 @njit(cache=True)
 def _index(text, i, end, count):
-    """(0-based index, next position, present) of one index of a corner (after
-    it: '/', a space or the end); count: the items of its kind read so far,
-    which a negative index counts back from."""
+    """(0-based index, next position, ABSENT/PRESENT/ZERO) of one index of a
+    corner (after it: '/', a space or the end); count: the items of its kind
+    read so far, which a negative index counts back from (below 0 if it
+    counts back past the first)."""
     negative = False
     if i < end and text[i] == 45:
         negative = True
@@ -146,48 +161,65 @@ def _index(text, i, end, count):
         seen = True
         i += 1
     if not seen:
-        return -1, i, False
-    return (count - k) if negative else (k - 1), i, True
+        return -1, i, ABSENT
+    if k == 0:
+        return -1, i, ZERO
+    return (count - k) if negative else (k - 1), i, PRESENT
 
 
 @njit(cache=True)
 def _corner(text, j, end, nv, nvt, nvn):
-    """((v, vt, vn), next position, ok): one corner of a face, -1 for an
-    index it does not name; ok False if it is not one of the four forms."""
-    a, j, has_a = _index(text, j, end, nv)
+    """((v, vt, vn), (their states), next position, ok): one corner of a
+    face, -1 for an index it does not name; ok False if it is not one of the
+    four forms."""
+    a, j, sa = _index(text, j, end, nv)
     b, c = -1, -1
+    sb, sc = ABSENT, ABSENT
     if j < end and text[j] == 47:
-        b, j, has_b = _index(text, j + 1, end, nvt)
+        b, j, sb = _index(text, j + 1, end, nvt)
         if j < end and text[j] == 47:
-            c, j, has_c = _index(text, j + 1, end, nvn)
-            if not has_c:
-                return (a, b, c), j, False
-        elif not has_b:
-            return (a, b, c), j, False            # 'v/' with nothing after
-    ok = has_a and (j >= end or _space(text[j]))
-    return (a, b, c), j, ok
+            c, j, sc = _index(text, j + 1, end, nvn)
+            if sc == ABSENT:
+                return (a, b, c), (sa, sb, sc), j, False
+        elif sb == ABSENT:
+            return (a, b, c), (sa, sb, sc), j, False    # 'v/' with nothing after
+    ok = sa != ABSENT and (j >= end or _stop(text[j]))
+    return (a, b, c), (sa, sb, sc), j, ok
+
+
+# How _scan ended: read, or where it stopped.  CONTINUED, NOT_NUMBER and
+# NOT_CORNER: a line this reader does not read (trimesh may); ZERO_INDEX and
+# OUT_OF_RANGE: a face that names what is not in the file.
+READ, CONTINUED, NOT_NUMBER, NOT_CORNER, ZERO_INDEX, OUT_OF_RANGE = range(6)
 
 
 @njit(cache=True)
 def _scan(text, pow10, fill, v, vt, vn, corners, hard):
     """Count (fill False) or read (fill True) the file's lines: (vertices,
-    uvs, normals, triangles, numbers left to float(), ok).  hard[h] = (kind,
-    row, column, start, end) of each number left to float()."""
+    uvs, normals, triangles, numbers left to float(), status, part, line,
+    word): status READ, or why it stopped at the word starting at `word` of
+    the line starting at `line` (part: which index of a corner, 0 v, 1 vt,
+    2 vn).  hard[h] = (kind, row, column, start, end) of each number left to
+    float().  Indices beyond the file's tables are caught when filling (the
+    tables' sizes known: an index may name a later line)."""
     n = text.shape[0]
     nv = nvt = nvn = nt = nh = 0
     i = 0
     while i < n:
         kind, j = _kind(text, i, n)
         end = _end(text, j, n)
-        if end > 0 and text[end - 1] == 92:         # a backslash continues the line
-            return nv, nvt, nvn, nt, nh, False
+        last = end - 1
+        while last >= j and _space(text[last]):
+            last -= 1
+        if last >= j and text[last] == 92 and text[j] != 35:   # a backslash continues it
+            return nv, nvt, nvn, nt, nh, CONTINUED, 0, i, last
         if kind == V or kind == VT or kind == VN:
             width = 2 if kind == VT else 3
             row = nv if kind == V else (nvt if kind == VT else nvn)
             for c in range(width):
                 x, start, j, status = _number(text, j, end, pow10)
                 if status == BAD:
-                    return nv, nvt, nvn, nt, nh, False
+                    return nv, nvt, nvn, nt, nh, NOT_NUMBER, 0, i, start
                 if status == HARD:
                     if fill:
                         hard[nh, 0], hard[nh, 1], hard[nh, 2] = kind, row, c
@@ -208,64 +240,120 @@ def _scan(text, pow10, fill, v, vt, vn, corners, hard):
                 nvn += 1
         elif kind == F:
             first = (-1, -1, -1)
-            last = (-1, -1, -1)
+            previous = (-1, -1, -1)
             m = 0
             while True:
                 while j < end and _space(text[j]):
                     j += 1
-                if j >= end:
+                if j >= end or text[j] == 35:           # the end, or a comment
                     break
-                corner, j, ok = _corner(text, j, end, nv, nvt, nvn)
+                word = j
+                corner, states, j, ok = _corner(text, j, end, nv, nvt, nvn)
                 if not ok:
-                    return nv, nvt, nvn, nt, nh, False
+                    return nv, nvt, nvn, nt, nh, NOT_CORNER, 0, i, word
+                for s in range(3):
+                    if states[s] == ZERO:
+                        return nv, nvt, nvn, nt, nh, ZERO_INDEX, s, i, word
+                    if states[s] == PRESENT:
+                        size = v.shape[0] if s == 0 else (vt.shape[0] if s == 1
+                                                          else vn.shape[0])
+                        if corner[s] < 0 or (fill and corner[s] >= size):
+                            return nv, nvt, nvn, nt, nh, OUT_OF_RANGE, s, i, word
                 if m == 0:
                     first = corner
                 elif m >= 2:                            # a fan from the first corner
                     if fill:
                         for s in range(3):
                             corners[nt, 0, s] = first[s]
-                            corners[nt, 1, s] = last[s]
+                            corners[nt, 1, s] = previous[s]
                             corners[nt, 2, s] = corner[s]
                     nt += 1
-                last = corner
+                previous = corner
                 m += 1
         i = end + 1
-    return nv, nvt, nvn, nt, nh, True
+    return nv, nvt, nvn, nt, nh, READ, 0, 0, 0
+
+
+class ObjError(ValueError):
+    """A line of an OBJ file that is wrong: one line naming the file and the
+    line (a face naming vertex 0, or one beyond the file's)."""
+
+
+class Unread(ObjError):
+    """A line this reader does not read (a continued line, a word where a
+    number should be, a corner of another form): trimesh may."""
+
+
+NAMES = (("vertex", "vertices"), ("texture coordinate", "texture coordinates"),
+         ("normal", "normals"))
+
+
+def _stopped(path, text, status, part, line, word, totals, seen):
+    """The ObjError (or Unread) for a scan that stopped at `word` on the line
+    starting at `line`."""
+    number = int(np.count_nonzero(text[:line] == 10)) + 1
+    stop = word
+    while stop < len(text) and text[stop] not in b" \t\r\n#":
+        stop += 1
+    written = text[word:stop].tobytes().decode("utf-8", "replace")
+    where = f"{path}, line {number}"
+    if status == CONTINUED:
+        return Unread(f"{where}: a line continued with a backslash")
+    if status == NOT_NUMBER:
+        if not written:
+            keyword = text[line:word].tobytes().decode("utf-8", "replace").split()
+            return Unread(f"{where}: too few numbers after {keyword[0]!r}")
+        return Unread(f"{where}: {written!r} is not a number")
+    if status == NOT_CORNER:
+        return Unread(f"{where}: {written!r} is not a face corner (v, v/vt, v//vn or v/vt/vn)")
+    one, many = NAMES[part]
+    index = written.split("/")[part]
+    if status == ZERO_INDEX:
+        return ObjError(f"{where}: corner {written!r} names {one} 0 (OBJ indices start at 1, "
+                        f"or count back from -1)")
+    if index.startswith("-"):
+        return ObjError(f"{where}: corner {written!r} counts back {index[1:]} {many}, but "
+                        f"{seen[part]:,} {'are' if seen[part] != 1 else 'is'} before this line")
+    return ObjError(f"{where}: corner {written!r} names {one} {index}, but the file has "
+                    f"{totals[part]:,} {many if totals[part] != 1 else one}")
 
 
 def read(path, fits=None):
     """(vertices, faces, uvs, normals) of the OBJ file at path, as
-    meshes.read gives them; None if it holds what this reader does not read
-    exactly (the caller then uses trimesh).  fits(bytes, triangles), if
-    given, is asked once the lines are counted, before the arrays are made
-    (it raises if they would not fit in memory)."""
+    meshes.read gives them.  Unread if it holds what this reader does not
+    read exactly (the caller then uses trimesh), ObjError for a face that
+    names what is not in the file.  fits(bytes, triangles), if given, is
+    asked once the lines are counted, before the arrays are made (it raises
+    if they would not fit in memory)."""
     text = np.fromfile(path, dtype=np.uint8)
     if text[:3].tobytes() == b"\xef\xbb\xbf":        # a UTF-8 byte order mark
         text = text[3:]
-    nv, nvt, nvn, nt, nh, ok = _scan(text, _POW10, False, np.zeros((0, 3)), np.zeros((0, 2)),
-                                     np.zeros((0, 3)), np.zeros((0, 3, 3), dtype=np.int64),
-                                     np.zeros((0, 5), dtype=np.int64))
-    if not ok:
-        return None
+    nv, nvt, nvn, nt, nh, status, part, line, word = _scan(
+        text, _POW10, False, np.zeros((0, 3)), np.zeros((0, 2)), np.zeros((0, 3)),
+        np.zeros((0, 3, 3), dtype=np.int64), np.zeros((0, 5), dtype=np.int64))
+    if status != READ:
+        raise _stopped(path, text, status, part, line, word, None, (nv, nvt, nvn))
     if fits is not None:
         # The tables, the corners, and making vertices of them (unique keys).
         fits(8 * (3 * nv + 2 * nvt + 3 * nvn) + 8 * nt * (9 + 3 * 4 + 3), nt)
     v, vt, vn = np.empty((nv, 3)), np.empty((nvt, 2)), np.empty((nvn, 3))
     corners = np.empty((nt, 3, 3), dtype=np.int64)
     hard = np.empty((nh, 5), dtype=np.int64)
-    _scan(text, _POW10, True, v, vt, vn, corners, hard)
+    _, _, _, _, _, status, part, line, word = _scan(text, _POW10, True, v, vt, vn, corners, hard)
+    if status != READ:              # an index beyond the file's tables
+        raise _stopped(path, text, status, part, line, word, (nv, nvt, nvn), None)
     tables = {V: v, VT: vt, VN: vn}
     for kind, row, column, start, end in hard:      # beyond the fast path: float()
         tables[kind][row, column] = float(text[start:end].tobytes())
     vi, ti, ni = corners[:, :, 0], corners[:, :, 1], corners[:, :, 2]
-    # Indices out of range are left for meshes.check to name; a corner's uv or
-    # normal counts only if every corner has one and all are in range.
-    has_uv = nt > 0 and (ti >= 0).all() and (ti < nvt).all()
-    has_n = nt > 0 and (ni >= 0).all() and (ni < nvn).all()
+    # Every index is in range (_scan); a corner's uv or normal counts only if
+    # every corner names one.
+    has_uv = nt > 0 and (ti >= 0).all()
+    has_n = nt > 0 and (ni >= 0).all()
     if not has_uv and not has_n:
         return v, vi, None, None
-    if (vi < 0).any() or (vi >= nv).any() or nv * max(nvt, 1) * max(nvn, 1) >= 2 ** 62:
-        return None                 # let trimesh read (or reject) it
+    if nv * max(nvt, 1) * max(nvn, 1) >= 2 ** 62:
+        raise Unread(f"{path}: too many vertices, texture coordinates and normals to pair")
     # A vertex for each different (v, vt, vn) the corners name.
     key = vi.ravel()
     if has_uv:

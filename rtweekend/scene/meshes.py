@@ -28,6 +28,7 @@ def read(path):
     path = Path(path)
     if not path.is_file():
         raise FieldError("file", f"no such mesh file: {path}")
+    unread = None
     if path.suffix.lower() == ".obj":
         def fits(needed, triangles):
             _fits(path, needed + path.stat().st_size, f"its {triangles:,} triangles")
@@ -35,11 +36,15 @@ def read(path):
             mesh = obj.read(path, fits)
         except OSError as e:
             raise FieldError("file", f"cannot read the mesh {path}: {e}") from None
-        if mesh is not None:
+        except obj.Unread as e:
+            unread = str(e)             # trimesh's turn
+        except obj.ObjError as e:
+            raise FieldError("file", str(e)) from None
+        else:
             if len(mesh[1]) == 0:
                 raise FieldError("file", f"{path} holds no triangles")
             return mesh
-    return read_with_trimesh(path)
+    return read_with_trimesh(path, unread)
 
 
 def _fits(path, needed, what):
@@ -56,11 +61,15 @@ def _fits(path, needed, what):
 TRIMESH_BYTES_PER_FILE_BYTE = 4
 
 
-def read_with_trimesh(path):
-    """read(), by trimesh for every format."""
+def read_with_trimesh(path, unread=None):
+    """read(), by trimesh for every format; unread: why the OBJ reader did
+    not read it (obj.Unread's message), said if trimesh is not installed."""
     try:
         import trimesh
     except ImportError:
+        if unread:
+            raise FieldError("file", f"{unread}, which rtweekend's OBJ reader does not "
+                             f"read; trimesh may: {INSTALL}") from None
         raise FieldError("file", f"reading mesh files needs trimesh: {INSTALL}") from None
     path = Path(path)
     _fits(path, TRIMESH_BYTES_PER_FILE_BYTE * path.stat().st_size, "its contents")
@@ -117,11 +126,12 @@ def _file_normals(part, m):
         return None
 
 
-def check(vertices, faces, uvs=None, normals=None, where="mesh"):
+def check(vertices, faces, uvs=None, normals=None, where="mesh", from_file=False):
     """Clean copies of the arrays, or FieldError naming what is wrong:
     vertices finite [V, 3], faces [F, 3] of indices below V, uvs [V, 2] finite,
-    normals [V, 3] finite and not zero (made unit); faces without area dropped
-    (at least one must remain)."""
+    normals [V, 3] finite and not zero (made unit) at the vertices of the faces
+    kept -- from_file: a file's normal that is not is made from the faces
+    (unit_normals) --; faces without area dropped (at least one must remain)."""
     try:
         v = np.array(vertices, dtype=np.float64)
         f = np.array(faces)
@@ -150,32 +160,59 @@ def check(vertices, faces, uvs=None, normals=None, where="mesh"):
         uvs = np.array(uvs, dtype=np.float64)
         if uvs.shape != (len(v), 2) or not np.isfinite(uvs).all():
             uvs = None              # texture coordinates that do not fit: none
-    if normals is not None:
-        normals = unit_normals(normals, len(v), where)
     area = np.linalg.norm(np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]]), axis=1)
     keep = area > 0.0
     if not keep.any():
         raise FieldError(where, f"none of its {len(f)} triangles has an area")
-    return v, f[keep], uvs, normals
+    f = f[keep]
+    if normals is not None:
+        normals = unit_normals(normals, v, f, where, mend=from_file)
+    return v, f, uvs, normals
 
 
-def unit_normals(normals, n_vertices, where):
-    """normals [V, 3] made unit, or FieldError: the wrong shape, or one that is
-    not finite or has no length."""
+def unit_normals(normals, vertices, faces, where, mend=False):
+    """normals [V, 3] made unit, or FieldError: the wrong shape, or one of a
+    vertex of `faces` that is not a direction (not finite, or no length).
+    mend (a file's normals): such a vertex gets the normal its faces make
+    instead.  A vertex of no face keeps any unit normal: it is never read."""
     try:
         n = np.array(normals, dtype=np.float64)
     except (TypeError, ValueError) as e:
         raise FieldError(where, f"normals: not an array of numbers: {e}") from None
-    if n.shape != (n_vertices, 3):
+    if n.shape != (len(vertices), 3):
         raise FieldError(where, f"normals: expected one per vertex, an array of shape "
-                         f"({n_vertices}, 3), got {n.shape}")
+                         f"({len(vertices)}, 3), got {n.shape}")
     length = np.linalg.norm(n, axis=1)
-    bad = ~np.isfinite(n).all(axis=1) | ~(length > 0.0) | ~np.isfinite(length)
+    bad = ~(np.isfinite(n).all(axis=1) & (length > 0.0) & np.isfinite(length))
     if bad.any():
-        i = int(np.flatnonzero(bad)[0])
-        raise FieldError(where, f"the normal of vertex {i} is not a direction: "
-                         f"{n[i].tolist()}")
+        used = np.zeros(len(n), dtype=bool)
+        used[faces.ravel()] = True
+        wrong = bad & used
+        if wrong.any() and not mend:
+            i = int(np.flatnonzero(wrong)[0])
+            raise FieldError(where, f"normals[{i}] is not a direction: {n[i].tolist()} "
+                             f"(the normal of vertices[{i}] must be finite and not zero)")
+        if wrong.any():
+            # Exporters write `vn 0 0 0` (or NaN) where they could not make a
+            # normal.  Blender reads a zero custom normal as "the automatic
+            # one": the area-weighted normal of the faces around that point,
+            # as smooth = true makes them; so does this, the faces around the
+            # position (not only those naming this vertex's file normal), so
+            # the shading stays continuous with its neighbours instead of one
+            # flat facet in a smooth surface.
+            n[wrong] = faces_normals(vertices, faces, wrong)
+        n[bad & ~used] = (0.0, 0.0, 1.0)
+        length = np.linalg.norm(n, axis=1)
     return n / length[:, None]
+
+
+def faces_normals(vertices, faces, which):
+    """Unit normals [which.sum(), 3] of the vertices `which` (a mask) made
+    from the faces around their positions, vertices at the same point counted
+    as one (smooth_normals of the welded mesh)."""
+    points, weld = np.unique(vertices, axis=0, return_inverse=True)
+    weld = weld.ravel()
+    return smooth_normals(points, weld[faces])[weld[which]]
 
 
 def smooth_normals(vertices, faces):

@@ -225,7 +225,9 @@ def mesh(file: str | Path | tuple, material: Material, *, scale: float | Vec3 = 
     and translate.  smooth: shade with vertex normals interpolated across each
     triangle -- None (the default): where the file or arrays give them; True:
     theirs, or made from the faces (weighted by area) if they give none;
-    False: flat, each triangle its own normal."""
+    False: flat, each triangle its own normal.  A file's vertex normal that
+    is not a direction (`vn 0 0 0`) is made from the faces around it; arrays
+    with one are refused."""
     if smooth is not None:
         smooth = fields.boolean(smooth, "smooth")
     if isinstance(file, (str, Path)):
@@ -254,7 +256,8 @@ def mesh(file: str | Path | tuple, material: Material, *, scale: float | Vec3 = 
     if not all(abs(s) >= fields.SMALLEST for s in factor):
         raise FieldError("scale", f"must not be 0, got {scale}")
     vertices, faces, uvs, normals = meshes.check(vertices, faces, uvs,
-                                                 None if smooth is False else normals, where)
+                                                 None if smooth is False else normals, where,
+                                                 from_file=where == "file")
     vertices = vertices * np.asarray(factor)
     if np.abs(vertices).max() > fields.LARGEST:
         raise FieldError("scale", f"puts vertices beyond {fields.LARGEST:g}")
