@@ -80,7 +80,7 @@ FAILURES = {name: dict(width=100, height=100, max_spp=4096, crop_seconds=4.0,
                                     ("tiny_light", 198656, 2.0),
                                     ("mirror_light", 262144, None))}
 FULL = {**BOOKS, **FAILURES}
-QUICK = {name: dict(cfg, max_spp=4, crop_seconds=0.2) for name, cfg in FULL.items()}
+QUICK = {name: dict(cfg, max_spp=4, crop_seconds=0.05) for name, cfg in FULL.items()}
 FIT_FROM_SPP = 8        # fit the slope where per-pass overheads no longer matter
 SEED = 2024             # the renders measured; references use other seeds
 NET_FLOOR = 0.1         # errors(): the net RMSE is at least this share of the raw one

@@ -158,11 +158,14 @@ def test_bdpt_and_the_path_tracer_agree(name):
     # simple_light: textured surfaces, a sphere light and a rect light;
     # next_week_final: textures, media, motion blur, many lights' worth of
     # geometry; weekend: no emitter at all, the sky (bdpt is then the camera
-    # subpath alone).
+    # subpath alone).  The path tracer is the default's estimator (mixture),
+    # with which test_render.py and the benchmarks render these scenes too: its
+    # kernels are compiled once for all (a cold compile is most of this test's
+    # time).  At 160 spp its standard error is no larger than nee's at 128 was.
     scene = rt.load_scene(name)
     size = dict(width=40, height=32) if name != "next_week_final" else dict(width=32, height=32)
     a = rt.render(scene, spp=64, sampling="bdpt", seed=4, **size)
-    b = rt.render(scene, spp=128, sampling="nee", seed=5, **size)
+    b = rt.render(scene, spp=160, sampling="mixture", seed=5, **size)
     assert a.stats.nan_dropped == 0
     z = block_z(a.image, a.stderr, b.image, b.stderr, 4, quiet_equal=True)
     assert np.abs(z).max() < 5, f"worst block z = {np.abs(z).max():.2f}"

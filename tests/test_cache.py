@@ -7,6 +7,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
 from numba import config
 
 import rtweekend
@@ -59,40 +60,23 @@ def test_collector_is_paused_only_while_compiling():
     assert gc.isenabled()
 
 
+# Renders with the kernel of a scene with every feature (textures, media, motion)
+# and strategy (next events, Sobol points), then prints the hash of the film and
+# what the kernel's IR calls.  Run twice on one empty cache folder: the first
+# process compiles (the IR is its own), the second loads what the first saved.
 CHILD = """
-import hashlib, sys
+import gc, hashlib, re
 import numpy as np
 import rtweekend as rt
-r = rt.Renderer(rt.load_scene("metals"), width=24, height=16, sampling="mixture", seed=2,
-                threads=1)
+from rtweekend.kernel.jit import _InlinedDispatcher
+from rtweekend.path.integrators import path
+r = rt.Renderer(rt.load_scene("next_week_final"), width=24, height=16, sampling="nee+sobol",
+                seed=2, threads=1)
 r.add_samples(8)
 h = hashlib.sha256()
 for a in r.film:
     h.update(np.ascontiguousarray(a).tobytes())
 print(h.hexdigest())
-"""
-
-
-def test_a_kernel_compiled_here_and_one_loaded_from_the_cache_give_the_same_bits(tmp_path):
-    # The first process compiles the kernel (an empty cache folder), the second
-    # loads what the first saved; the float64 sums must agree to the bit (with
-    # 'contract' or 'reassoc' among the fastmath flags they did not: kernel/jit.py).
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
-    runs = [subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True,
-                           text=True, timeout=600) for _ in range(2)]
-    for run in runs:
-        assert run.returncode == 0, run.stderr[-2000:]
-    compiled, loaded = (run.stdout.strip() for run in runs)
-    assert any(tmp_path.rglob("*.nbi")), "the first run saved nothing to the cache"
-    assert compiled == loaded
-
-
-STEPS_INLINED = """
-import gc, re
-import rtweekend as rt
-from rtweekend.kernel.jit import _InlinedDispatcher
-from rtweekend.path.integrators import path
-rt.Renderer(rt.load_scene("next_week_final"), width=8, height=8, sampling="nee+sobol").compile()
 ir = "\\n".join(path.render_pass.inspect_llvm().values())
 steps = {c.fndesc.llvm_func_name for d in gc.get_objects() if isinstance(d, _InlinedDispatcher)
          for c in d.overloads.values()}
@@ -101,14 +85,35 @@ print(len(steps), len(calls), len(steps & calls))
 """
 
 
-def test_every_step_is_inlined_into_the_kernel(tmp_path):
+@pytest.fixture(scope="module")
+def compiled_then_loaded(tmp_path_factory):
+    """The two runs of CHILD (one cold compile serves both tests below) and the
+    cache folder."""
+    cache = tmp_path_factory.mktemp("numba_cache")
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(cache))
+    runs = [subprocess.run([sys.executable, "-c", CHILD], env=env, capture_output=True,
+                           text=True, timeout=900) for _ in range(2)]
+    for run in runs:
+        assert run.returncode == 0, run.stderr[-2000:]
+    return cache, [run.stdout.split("\n") for run in runs]
+
+
+def test_a_kernel_compiled_here_and_one_loaded_from_the_cache_give_the_same_bits(
+        compiled_then_loaded):
+    # The first process compiles the kernel (an empty cache folder), the second
+    # loads what the first saved; the float64 sums must agree to the bit (with
+    # 'contract' or 'reassoc' among the fastmath flags they did not: kernel/jit.py).
+    cache, (compiled, loaded) = compiled_then_loaded
+    assert any(cache.rglob("*.nbi")), "the first run saved nothing to the cache"
+    assert compiled[0] == loaded[0]
+
+
+def test_every_step_is_inlined_into_the_kernel(compiled_then_loaded):
     # jit_step asks LLVM to inline a step wherever it is called (kernel/jit.py):
     # the kernel of a scene with every feature and strategy calls none of them.
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))      # compiled here: IR to read
-    run = subprocess.run([sys.executable, "-c", STEPS_INLINED], env=env, capture_output=True,
-                         text=True, timeout=900)
-    assert run.returncode == 0, run.stderr[-2000:]
-    steps, calls, steps_called = map(int, run.stdout.split())
+    # Read in the process that compiled it (its steps compiled there too).
+    _, (compiled, _) = compiled_then_loaded
+    steps, calls, steps_called = map(int, compiled[1].split())
     assert steps > 50 and calls > 0          # it found the steps, and calls (to libm, say)
     assert steps_called == 0
 
