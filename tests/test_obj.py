@@ -182,6 +182,18 @@ def test_an_obj_file_is_read_without_trimesh(tmp_path, monkeypatch):
                             f"does not read; trimesh may: {meshes.INSTALL}")
 
 
+def test_a_line_neither_reader_reads_is_named_by_the_obj_readers_message(tmp_path):
+    # trimesh's own error for such a file ("string or file could not be read to
+    # its end due to unmatched data") names no line.
+    pytest.importorskip("trimesh", reason="needs the meshes extra")
+    (tmp_path / "odd.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1/x 2 3\n")
+    with pytest.raises(rt.SceneError) as e:
+        rt.mesh(tmp_path / "odd.obj", GREY)
+    assert str(e.value) == (f"mesh: file: {tmp_path / 'odd.obj'}, line 5: '1/x' is not a face "
+                            f"corner (v, v/vt, v//vn or v/vt/vn), which neither rtweekend's "
+                            f"OBJ reader nor trimesh reads")
+
+
 def test_a_mesh_file_too_big_for_memory_is_refused_before_it_is_read(tmp_path, monkeypatch):
     from rtweekend import memory
     import rtweekend as rt

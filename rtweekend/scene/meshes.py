@@ -79,6 +79,9 @@ def read_with_trimesh(path, unread=None):
         # concatenated by trimesh would recompute from the faces.
         scene = trimesh.load_scene(str(path), process=False)
     except Exception as e:          # trimesh raises many kinds for a file it cannot read
+        if unread:                  # the OBJ reader's message names the line
+            raise FieldError("file", f"{unread}, which neither rtweekend's OBJ reader "
+                             f"nor trimesh reads") from None
         why = str(e).splitlines()[0] if str(e) else type(e).__name__
         raise FieldError("file", f"cannot read the mesh {path}: {why}") from None
     parts = []
