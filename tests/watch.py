@@ -7,12 +7,19 @@ import threading
 import time
 
 
+def _default_sigint():
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 class Watched:
     """args in a subprocess; self.err grows with its stderr."""
 
     def __init__(self, args, **popen_kwargs):
+        # Ctrl-C as a terminal's child gets it: pytest started as a background
+        # job of a script has SIGINT ignored, which its children would inherit
+        # (and keep, as a program started under nohup should).
         self.p = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                                  **popen_kwargs)
+                                  preexec_fn=_default_sigint, **popen_kwargs)
         self.err = bytearray()
         self.reader = threading.Thread(target=self._pump, daemon=True)
         self.reader.start()
