@@ -174,24 +174,31 @@ def test_an_obj_file_is_read_without_trimesh(tmp_path, monkeypatch):
     with pytest.raises(Exception, match="needs trimesh"):
         meshes.read(tmp_path / "tri.ply")
     # A line it does not read: named, not "reading mesh files needs trimesh".
-    (tmp_path / "odd.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1/ 2/ 3/\n")
+    assert _odd_corner_error(tmp_path, "1/") == (
+        f"{_corner_not_read(tmp_path, '1/')}, which rtweekend's OBJ reader does not read; "
+        f"trimesh may: {meshes.INSTALL}")
+
+
+def _odd_corner_error(tmp_path, corner):
+    """rt.mesh's error for a file whose fifth line has a face corner `corner`."""
+    (tmp_path / "odd.obj").write_text(f"v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf {corner} 2 3\n")
     with pytest.raises(rt.SceneError) as e:
         rt.mesh(tmp_path / "odd.obj", GREY)
-    assert str(e.value) == (f"mesh: file: {tmp_path / 'odd.obj'}, line 5: '1/' is not a face "
-                            f"corner (v, v/vt, v//vn or v/vt/vn), which rtweekend's OBJ reader "
-                            f"does not read; trimesh may: {meshes.INSTALL}")
+    return str(e.value)
+
+
+def _corner_not_read(tmp_path, corner):
+    return (f"mesh: file: {tmp_path / 'odd.obj'}, line 5: '{corner}' is not a face corner "
+            f"(v, v/vt, v//vn or v/vt/vn)")
 
 
 def test_a_line_neither_reader_reads_is_named_by_the_obj_readers_message(tmp_path):
     # trimesh's own error for such a file ("string or file could not be read to
     # its end due to unmatched data") names no line.
     pytest.importorskip("trimesh", reason="needs the meshes extra")
-    (tmp_path / "odd.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1/x 2 3\n")
-    with pytest.raises(rt.SceneError) as e:
-        rt.mesh(tmp_path / "odd.obj", GREY)
-    assert str(e.value) == (f"mesh: file: {tmp_path / 'odd.obj'}, line 5: '1/x' is not a face "
-                            f"corner (v, v/vt, v//vn or v/vt/vn), which neither rtweekend's "
-                            f"OBJ reader nor trimesh reads")
+    assert _odd_corner_error(tmp_path, "1/x") == (
+        f"{_corner_not_read(tmp_path, '1/x')}, which neither rtweekend's OBJ reader nor "
+        f"trimesh reads")
 
 
 def test_a_mesh_file_too_big_for_memory_is_refused_before_it_is_read(tmp_path, monkeypatch):
