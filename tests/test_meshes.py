@@ -244,7 +244,6 @@ f 1/1 4/4 3/3
 
 
 def test_a_mesh_file_is_read_placed_and_scaled(tmp_path):
-    pytest.importorskip("trimesh", reason="needs the meshes extra")
     (tmp_path / "models").mkdir()
     (tmp_path / "models" / "square.obj").write_text(OBJ)
     (tmp_path / "s.toml").write_text("""

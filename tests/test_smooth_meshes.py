@@ -39,7 +39,6 @@ f 1//1 3//3 4//4
 
 
 def test_an_obj_files_vertex_normals_are_read_and_made_unit(tmp_path):
-    pytest.importorskip("trimesh", reason="needs the meshes extra")
     (tmp_path / "square.obj").write_text(SQUARE_OBJ)
     shape = rt.mesh(tmp_path / "square.obj", GREY)
     v, f, _, n = shape.geometry
