@@ -164,10 +164,14 @@ def behind(bsdf, wi):
     scattered there would let a light behind the surface light its front.
     Such directions are absorbed (pbrt-v3's BSDF::f does the same).  False
     where n is ng: every other surface keeps its arithmetic and its bits."""
+    return bent_normal(bsdf) and dot(wi, bsdf.ng) <= 0.0
+
+
+@jit_step
+def bent_normal(bsdf):
+    """Does its shading normal differ from the geometric one (a smooth mesh)?"""
     n, ng = bsdf.n, bsdf.ng
-    if n[0] == ng[0] and n[1] == ng[1] and n[2] == ng[2]:
-        return False
-    return dot(wi, ng) <= 0.0
+    return n[0] != ng[0] or n[1] != ng[1] or n[2] != ng[2]
 
 
 @jit_step
@@ -177,9 +181,9 @@ def shading_adjoint(bsdf, wo, wi):
     |wo.n| |wi.ng| / (|wo.ng| |wi.n|), which makes a subpath that carries
     light see the same surface as one that carries importance (Veach's thesis
     5.3).  Exactly 1 where n is ng: every other surface."""
-    n, ng = bsdf.n, bsdf.ng
-    if n[0] == ng[0] and n[1] == ng[1] and n[2] == ng[2]:
+    if not bent_normal(bsdf):
         return 1.0
+    n, ng = bsdf.n, bsdf.ng
     den = abs(dot(wo, ng)) * abs(dot(wi, n))
     if den == 0.0:
         return 0.0                      # grazing: no light, and no infinity

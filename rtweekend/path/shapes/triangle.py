@@ -216,8 +216,6 @@ def shading_normal(tris, obj_f, k, p, n_out):
 @jit_step
 def surface(tris, obj_f, k):
     """The surface triangle k is part of: its mesh's first triangle."""
-    if tris is None:
-        return k
     return tris.mesh[np.int64(obj_f[k, INDEX])]
 
 
