@@ -9,7 +9,13 @@ import os
 from contextlib import contextmanager
 from pathlib import Path
 
+from llvmlite import binding as ll
 from numba import config, njit, types
+from numba.core.caching import CompileResultCacheImpl, FunctionCache
+from numba.core.codegen import JITCodeLibrary
+from numba.core.compiler import Compiler
+from numba.core.compiler_lock import require_global_compiler_lock
+from numba.core.errors import TypingError
 from numba.core.registry import CPUDispatcher
 from numba.extending import overload
 from numba.np.numpy_support import as_dtype
@@ -79,6 +85,102 @@ def _cache_dir():
 config.CACHE_DIR = _cache_dir()
 
 
+# How a step's library is kept in the cache: LLVM bitcode for linking, no
+# machine code (Numba's own kinds are 'object' and 'bitcode').
+STEP_KIND = "rtweekend-step"
+
+
+class StepLibrary(JITCodeLibrary):
+    """A step's code: IR that kernels link in and inline, never run on its own.
+
+    Numba finalises every function it compiles as if it could be called: the
+    module optimised at O3 with its callees linked in, then turned into machine
+    code.  A step is only ever inlined into its callers, which optimise it
+    again there, so each level of a call chain optimised everything below it
+    once more, and its machine code was never run.  A step's library stops at
+    the per-function passes (run as its IR is added) and the linking of its
+    callees; the kernel that inlines it optimises the whole once, and only the
+    kernel becomes machine code.
+    """
+
+    def finalize(self):
+        require_global_compiler_lock()
+        self._raise_if_finalized()
+        seen = set()
+        for library in self._linking_libraries:
+            if library not in seen:
+                seen.add(library)
+                self._reload_init.update(library._reload_init)
+                self._final_module.link_in(library._get_module_for_linking(), preserve=True)
+        self._finalize_dynamic_globals()
+        self._finalized = True
+
+    @property
+    def codegen(self):
+        """The codegen, except that a step's environment pointer is not set:
+        that needs its module in the engine (its machine code), and a step
+        has no use for it (no Python objects, no NRT)."""
+        return _NoEnvironment(self._codegen)
+
+    def get_pointer_to_function(self, name):
+        """No machine code: no function to point to (a step has no wrapper for
+        Python anyway; Python calls it through an entry, jit_step's __call__)."""
+        self._ensure_finalized()
+        return 0
+
+    def serialize_using_object_code(self):
+        return (self.name, STEP_KIND, self._get_module_for_linking().as_bitcode())
+
+    @classmethod
+    def _unserialize(cls, codegen, state):
+        name, kind, bitcode = state
+        if kind != STEP_KIND:
+            return JITCodeLibrary._unserialize(codegen, state)
+        self = cls(codegen, name)
+        self._final_module = ll.parse_bitcode(bitcode)
+        self._finalized = True
+        return self
+
+
+class _NoEnvironment:
+    """A codegen whose set_env does nothing (StepLibrary.codegen)."""
+
+    def __init__(self, codegen):
+        self._codegen = codegen
+
+    def __getattr__(self, name):
+        return getattr(self._codegen, name)
+
+    def set_env(self, env_name, env):
+        pass
+
+
+class _StepCompiler(Compiler):
+    """Numba's pipeline, lowering a step into a StepLibrary."""
+
+    def compile_extra(self, func):
+        if self.state.library is None:
+            self.state.library = StepLibrary(self.state.targetctx.codegen(), func.__qualname__)
+            self.state.library.enable_object_caching()
+        return super().compile_extra(func)
+
+
+class _StepCacheImpl(CompileResultCacheImpl):
+    def rebuild(self, target_context, payload):
+        # Numba rebuilds a cached result through codegen.unserialize_library;
+        # for the duration (under the compiler lock) that is StepLibrary's.
+        codegen = target_context.codegen()
+        codegen.unserialize_library = lambda state: StepLibrary._unserialize(codegen, state)
+        try:
+            return super().rebuild(target_context, payload)
+        finally:
+            del codegen.unserialize_library
+
+
+class _StepCache(FunctionCache):
+    _impl_class = _StepCacheImpl
+
+
 class _InlinedDispatcher(CPUDispatcher):
     """Numba's dispatcher, but LLVM must inline every function it compiles
     (the LLVM attribute alwaysinline) into whatever calls it."""
@@ -96,6 +198,21 @@ class _InlinedDispatcher(CPUDispatcher):
                 continue
             function.add_function_attribute("alwaysinline")
         super().add_overload(cres)
+
+    def get_call_template(self, args, kws):
+        """Typing a call from compiled code: compile for the arguments' types
+        without their literal values.  Numba would compile a step once per
+        constant it is called with (col(v, 0), col(v, 3), ...); LLVM folds
+        the constants once the step is inlined, so those copies cost compile
+        time and bought nothing.  A step that needs a constant to type (an
+        index into a tuple of mixed types, say) keeps it."""
+        plain = tuple(types.unliteral(a) for a in args)
+        if plain != tuple(args) and not kws:
+            try:
+                return super().get_call_template(plain, kws)
+            except TypingError:
+                pass
+        return super().get_call_template(args, kws)
 
     def __call__(self, *args):
         """From Python (tests, benchmarks): through a small compiled function that
@@ -132,8 +249,9 @@ def jit_step(fn):
     caller links it in (a Numba internal: tests/test_cache.py checks that
     kernels hold no call to a step).
     """
-    dispatcher = _InlinedDispatcher(py_func=fn, locals={}, targetoptions=_STEP_OPTIONS)
-    dispatcher.enable_caching()
+    dispatcher = _InlinedDispatcher(py_func=fn, locals={}, targetoptions=_STEP_OPTIONS,
+                                    pipeline_class=_StepCompiler)
+    dispatcher._cache = _StepCache(fn)
     return dispatcher
 
 
