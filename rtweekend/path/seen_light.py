@@ -50,6 +50,7 @@ import numpy as np
 
 from ..kernel import sampler
 from ..kernel.jit import jit_kernel, jit_step
+from ..kernel.ref import by_ref
 from ..kernel.rows import interleaved_rows, on_threads
 from ..kernel.vec3 import add, mul, neg, scale
 from . import materials, media as volumes, shapes
@@ -171,17 +172,18 @@ def pilot_pass(corners, centres, segments, scene, params, rows, key, textures, m
     segments: the centres' ray segments."""
     width, height = params.width, params.height
     stack_f, stack_i = np.zeros((SPLITS, 9)), np.zeros((SPLITS, 3), dtype=np.int64)
+    scene_r, params_r, textures_r = by_ref(scene), by_ref(params), by_ref(textures)
     for j in range(rows.shape[0]):
         y = rows[j]
         for x in range(width + 1):
             smp = sampler.start(y * (width + 1) + x, 0, key, 0)
-            v, _ = light_seen(scene, params, x, y, 0.0, 0.0, smp, stack_f, stack_i, textures,
-                              media, motion)
+            v, _ = light_seen(scene_r, params_r, x, y, 0.0, 0.0, smp, stack_f, stack_i,
+                              textures_r, media, motion)
             corners[y, x, 0], corners[y, x, 1], corners[y, x, 2] = v
             if y < height and x < width:
                 smp = sampler.start(y * width + x, 1, key, 0)
-                v, m = light_seen(scene, params, x, y, 0.5, 0.5, smp, stack_f, stack_i,
-                                  textures, media, motion)
+                v, m = light_seen(scene_r, params_r, x, y, 0.5, 0.5, smp, stack_f, stack_i,
+                                  textures_r, media, motion)
                 centres[y, x, 0], centres[y, x, 1], centres[y, x, 2] = v
                 segments[y, x] = m
 
@@ -191,6 +193,7 @@ def refine_pass(out, marks, scene, params, rows, n, key, textures, media, motion
     """out[y, x] = the mean of n rays' light, for the marked pixels of `rows`;
     returns the ray segments traced."""
     stack_f, stack_i = np.zeros((SPLITS, 9)), np.zeros((SPLITS, 3), dtype=np.int64)
+    scene_r, params_r, textures_r = by_ref(scene), by_ref(params), by_ref(textures)
     segments = 0
     for j in range(rows.shape[0]):
         y = rows[j]
@@ -202,8 +205,8 @@ def refine_pass(out, marks, scene, params, rows, n, key, textures, media, motion
             for s in range(n):
                 smp = sampler.start(pixel, s, key, 1)
                 jx, jy, smp = sampler.next_2d(smp)
-                v, m = light_seen(scene, params, x, y, jx, jy, smp, stack_f, stack_i,
-                                  textures, media, motion)
+                v, m = light_seen(scene_r, params_r, x, y, jx, jy, smp, stack_f, stack_i,
+                                  textures_r, media, motion)
                 r, g, b, segments = r + v[0], g + v[1], b + v[2], segments + m
             out[y, x, 0], out[y, x, 1], out[y, x, 2] = r / n, g / n, b / n
     return segments

@@ -34,6 +34,7 @@ import math
 import numpy as np
 
 from ...kernel import sampler
+from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, dot, mul, neg, scale
 from .. import camera, lights, media as volumes, shapes
@@ -320,6 +321,9 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
     n = params.max_depth + 2
     cf, ci = np.zeros((n, NF)), np.zeros((n, NI), dtype=np.int64)
     lf, li = np.zeros((n, NF)), np.zeros((n, NI), dtype=np.int64)
+    film_r, scene_r, params_r, textures_r = (by_ref(film), by_ref(scene), by_ref(params),
+                                             by_ref(textures))
+    caustics_r = by_ref(caustics)
     for k in range(rows.shape[0]):
-        render_row(rows[k], film, scene, params, s0, s1, textures, media, motion, caustics, cf,
-                   ci, lf, li)
+        render_row(rows[k], film_r, scene_r, params_r, s0, s1, textures_r, media, motion,
+                   caustics_r, cf, ci, lf, li)

@@ -30,6 +30,7 @@ import math
 import numpy as np
 
 from ...kernel import sampler
+from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import madd, mul, neg, scale
 from .. import camera, lights, materials, media as volumes, shapes
@@ -193,5 +194,7 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
     """The light paths of samples s0..s1-1 of the pixels of `rows` (one
     thread's share of a pass: kernel/rows.py); their splats may land anywhere,
     atomically (film.py)."""
+    film_r, scene_r, params_r, textures_r = (by_ref(film), by_ref(scene), by_ref(params),
+                                             by_ref(textures))
     for k in range(rows.shape[0]):
-        render_row(rows[k], film, scene, params, s0, s1, events, textures, media, motion)
+        render_row(rows[k], film_r, scene_r, params_r, s0, s1, events, textures_r, media, motion)

@@ -33,6 +33,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...kernel import sampler
+from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
@@ -271,5 +272,7 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
     share of a pass (kernel/rows.py).  Each row is written by one thread only,
     and every sum is in sample order, so the film is the same whatever the
     thread count.  None compiles a kernel without a feature (above)."""
+    film_r, scene_r, params_r, textures_r = (by_ref(film), by_ref(scene), by_ref(params),
+                                             by_ref(textures))
     for k in range(rows.shape[0]):
-        render_row(rows[k], film, scene, params, s0, s1, events, textures, media, motion)
+        render_row(rows[k], film_r, scene_r, params_r, s0, s1, events, textures_r, media, motion)

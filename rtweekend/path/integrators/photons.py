@@ -42,6 +42,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ...kernel import sampler
+from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.rows import on_threads
 from ...kernel.stack import stack_array
@@ -160,12 +161,13 @@ def cell_hash(cx, cy, cz):
 def trace_maps(scene, params, s0, rows, out_f, out_i, textures):
     """Trace photon j of map m into row n = m * PHOTONS + j for each n of `rows`
     (object -1: not stored); threads take parts of the rows (kernel/rows.py)."""
+    scene_r, params_r, textures_r = by_ref(scene), by_ref(params), by_ref(textures)
     for r in range(rows.shape[0]):
         n = rows[r]
         m, j = n // PHOTONS, n % PHOTONS
         # Keys no camera sample uses (pixels are >= 0).
         smp = sampler.start(-1 - j, s0 + m, params.seed, 0)
-        trace_photon(scene, params, out_f, out_i, n, textures, smp)
+        trace_photon(scene_r, params_r, out_f, out_i, n, textures_r, smp)
 
 
 @jit_step
