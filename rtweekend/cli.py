@@ -131,10 +131,10 @@ def build_parser():
     sub.add_parser("scenes", help="list the bundled scenes",
                    description="List the bundled scenes with a line about each.")
     c = sub.add_parser("cache", help="list or clear the compiled kernels on disk",
-                       description="The compiled kernels of each version of rtweekend "
-                       "live in a folder of their own; list them, or remove the old ones.")
+                       description="The compiled kernels, each kept until the sources it "
+                       "was built from change; say how much is there, or remove the old ones.")
     c.add_argument("action", nargs="?", choices=("list", "clear"), default="list")
-    c.add_argument("--all", action="store_true", help="with clear: this version's too "
+    c.add_argument("--all", action="store_true", help="with clear: every kernel "
                    "(the next render compiles again)")
     return parser
 
@@ -212,11 +212,14 @@ def _cache(args):
     from . import cache
     if args.action == "clear":
         removed, freed = cache.clear(everything=args.all)
-        print(f"removed {removed} folder{'s' * (removed != 1)}, {freed / 1e6:.1f} MB, "
-              f"from {cache.current().parent}")
+        print(f"removed {removed} file{'s' * (removed != 1)}, {freed / 1e6:.1f} MB, "
+              f"from {cache.current()}")
         return 0
-    for folder, size, in_use in cache.folders():
-        print(f"{folder}  {size / 1e6:7.1f} MB{'  (this version)' if in_use else ''}")
+    total, stale, old = cache.summary()
+    print(f"{cache.current()}  {total / 1e6:7.1f} MB, of which {stale / 1e6:.1f} MB built "
+          "from sources that have changed since")
+    for folder, size in old:
+        print(f"{folder}  {size / 1e6:7.1f} MB  (an earlier release's)")
     return 0
 
 

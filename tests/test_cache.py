@@ -1,5 +1,6 @@
-"""Numba's cache is keyed by the package's sources, so no edit runs stale code;
-and what the compile itself is wrapped in."""
+"""Each compiled function is keyed by the sources it can reach, so no edit runs
+stale code and no unrelated edit compiles again; and what the compile itself is
+wrapped in."""
 import math
 import os
 import shutil
@@ -7,34 +8,102 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
-from numba import config
 
 import rtweekend
-from rtweekend.kernel.jit import PACKAGE, source_digest
+from rtweekend.kernel import disk_cache
+from rtweekend.kernel.disk_cache import PACKAGE, Sources
 
 
-def test_cache_folder_is_keyed_by_every_source_file():
+def test_the_cache_is_one_folder_shared_by_every_copy_of_the_sources():
     assert PACKAGE == Path(rtweekend.__file__).resolve().parent
-    assert Path(config.CACHE_DIR).name == f"numba-{source_digest()}"
-    assert Path(config.CACHE_DIR).is_dir()
+    assert Path(disk_cache.BASE).name == "kernels" and Path(disk_cache.BASE).is_dir()
+    # Where a kernel's files go depends on its module's place in the package,
+    # not on where the package is (a clone, or installed), nor on the digest.
+    from rtweekend.path.integrators import bdpt
+    assert bdpt.render_pass._cache.cache_path == os.path.join(disk_cache.BASE, "rtweekend",
+                                                              "path", "integrators")
 
 
-def test_an_edit_anywhere_in_the_package_changes_the_key(tmp_path):
-    # Subpackages count (an edit to path/pdf.py must not load a stale kernel),
-    # and so does where a file is: moving one changes the key too.
+def test_a_kernels_key_is_the_sources_it_can_reach(tmp_path):
     copy = tmp_path / "rtweekend"
     shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
-    before = source_digest(copy)
-    assert before == source_digest(PACKAGE)
-    deep = copy / "path" / "shapes" / "sphere.py"
-    text = deep.read_text()
-    deep.write_text(text + "\n# an edit\n")
-    assert source_digest(copy) != before
-    deep.write_text(text)
-    assert source_digest(copy) == before
-    deep.rename(copy / "path" / "sphere.py")
-    assert source_digest(copy) != before
+    kernel, classic = copy / "path" / "integrators" / "path.py", copy / "classic" / "kernel.py"
+
+    def digests():
+        sources = Sources(copy)
+        return sources.digest(kernel), sources.digest(classic)
+
+    before = digests()
+    assert before == (Sources().digest(PACKAGE / "path" / "integrators" / "path.py"),
+                      Sources().digest(PACKAGE / "classic" / "kernel.py"))
+
+    def edited(path, text):
+        old = path.read_text()
+        path.write_text(old + text)
+        try:
+            return digests()
+        finally:
+            path.write_text(old)
+    # A callee in another file, however deep: the path tracer's key changes,
+    # the classic tracer's (which cannot reach it) does not.
+    deep = edited(copy / "path" / "shapes" / "sphere.py", "\n# an edit\n")
+    assert deep[0] != before[0] and deep[1] == before[1]
+    # A file both reach (vec3): both change.
+    shared = edited(copy / "kernel" / "vec3.py", "\n# an edit\n")
+    assert shared[0] != before[0] and shared[1] != before[1]
+    # The command line, the classic tracer's driver: neither kernel changes.
+    assert edited(copy / "cli.py", "\n# an edit\n") == before
+    assert edited(copy / "classic" / "render.py", "\n# an edit\n") == before
+    assert digests() == before
+    # Where a file is counts too: a module moved is another module.
+    (copy / "path" / "shapes" / "sphere.py").rename(copy / "path" / "shapes" / "ball.py")
+    assert digests()[0] != before[0]
+
+
+# The classic tracer's cgfs scene from a copy of the package, in a process of its
+# own: "compiled" when its kernel was compiled rather than loaded, and the image.
+RENDER = """
+import sys
+import numpy as np
+import rtweekend as rt
+r = rt.render(rt.load_scene("cgfs"), width=24, height=16, threads=1)
+np.save(sys.argv[1], r.image)
+print(r.stats.compiled)
+"""
+
+
+def test_an_edited_callee_in_another_file_compiles_afresh(tmp_path):
+    copy = tmp_path / "src" / "rtweekend"
+    shutil.copytree(PACKAGE, copy, ignore=shutil.ignore_patterns("__pycache__"))
+    env = dict(os.environ, PYTHONPATH=str(copy.parent), NUMBA_CACHE_DIR=str(tmp_path / "c"))
+
+    def render(name):
+        out = tmp_path / f"{name}.npy"
+        run = subprocess.run([sys.executable, "-c", RENDER, str(out)], env=env, cwd=tmp_path,
+                             capture_output=True, text=True, timeout=600)
+        assert run.returncode == 0, run.stderr[-2000:]
+        return run.stdout.split()[-1] == "True", np.load(out)
+
+    compiled, first = render("first")
+    assert compiled
+    compiled, again = render("again")
+    assert not compiled and np.array_equal(again, first)
+    # An edit the classic kernel cannot reach: still loaded from the cache.
+    with open(copy / "cli.py", "a") as f:
+        f.write("\n# an edit\n")
+    assert render("cli")[0] is False
+    # vec3.scale, a callee of the classic kernel in another file, now doubles:
+    # the kernel is compiled again, and the image shows the new code ran.
+    vec3 = copy / "kernel" / "vec3.py"
+    text = vec3.read_text()
+    assert "def scale(a, s):\n    return (a[0] * s, a[1] * s, a[2] * s)" in text
+    vec3.write_text(text.replace("def scale(a, s):\n    return (a[0] * s, a[1] * s, a[2] * s)",
+                                 "def scale(a, s):\n    return (a[0] * s * 2.0, a[1] * s * 2.0,"
+                                 " a[2] * s * 2.0)"))
+    compiled, edited = render("edited")
+    assert compiled and not np.array_equal(edited, first)
 
 
 def test_collector_is_paused_only_while_compiling():

@@ -118,20 +118,34 @@ def test_option_errors_have_the_prefix_of_every_other_error():
     assert r.stderr.startswith("rtweekend: error: ")
 
 
-def test_cache_lists_and_clears_the_old_versions_folders(tmp_path):
-    # A cache of its own: this version's folder and an old one beside it.
+def test_cache_lists_and_clears_what_no_source_matches_any_more(tmp_path):
+    # A cache of its own: a kernel of the sources as they are (compiled here),
+    # one of an edited version of its module, and an earlier release's folder.
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path))
+    compiled = subprocess.run([sys.executable, "-c", "from rtweekend.kernel.vec3 import dot; "
+                               "print(dot((1.0, 2.0, 3.0), (4.0, 5.0, 6.0)))"], env=env,
+                              capture_output=True, text=True, timeout=300)
+    assert compiled.stdout.strip() == "32.0"
+    kernels = tmp_path / "kernels"
+    current = sorted(p.name for p in kernels.rglob("*") if p.is_file())
+    assert any(name.startswith("vec3.dot-") for name in current)
+    stale = kernels / "rtweekend" / "kernel" / "vec3.dot-10-0123456789abcdef.py311.nbi"
+    stale.write_bytes(b"x" * 1_000_000)
     old = tmp_path / "numba-0123456789abcdef"
     old.mkdir()
     (old / "kernel.nbc").write_bytes(b"x" * 2_000_000)
     listed = subprocess.run(CMD + ["cache"], capture_output=True, text=True, env=env,
                             timeout=120)
     assert listed.returncode == 0
-    lines = listed.stdout.splitlines()
-    assert any(line.startswith(str(old)) and "2.0 MB" in line for line in lines)
-    assert sum("(this version)" in line for line in lines) == 1
+    first, second = listed.stdout.splitlines()
+    assert first.startswith(str(kernels)) and "of which 1.0 MB built from sources" in first
+    assert second.startswith(str(old)) and "2.0 MB" in second
     cleared = subprocess.run(CMD + ["cache", "clear"], capture_output=True, text=True,
                              env=env, timeout=120)
-    assert cleared.returncode == 0 and cleared.stdout.startswith("removed 1 folder, 2.0 MB")
+    assert cleared.returncode == 0 and cleared.stdout.startswith("removed 2 files, 3.0 MB")
     assert not old.exists()
-    assert len(list(tmp_path.glob("numba-*"))) == 1           # this version's stays
+    assert sorted(p.name for p in kernels.rglob("*") if p.is_file()) == current
+    everything = subprocess.run(CMD + ["cache", "clear", "--all"], capture_output=True,
+                                text=True, env=env, timeout=120)
+    assert everything.returncode == 0
+    assert [p.name for p in kernels.rglob("*") if p.is_file()] == [".lock"]

@@ -22,7 +22,8 @@ own for each different (v, vt, vn) it names, as trimesh does; uvs and normals
 are given only when every corner names one.
 """
 import numpy as np
-from numba import njit
+
+from ..kernel.jit import jit_host
 
 MAX_DIGITS = 15
 MAX_EXP10 = 22
@@ -32,12 +33,12 @@ _POW10 = np.array([10.0 ** i for i in range(MAX_EXP10 + 1)])
 OTHER, V, VT, VN, F = 0, 1, 2, 3, 4
 
 
-@njit(cache=True)
+@jit_host
 def _space(c):
     return c == 32 or c == 9 or c == 13
 
 
-@njit(cache=True)
+@jit_host
 def _kind(text, i, n):
     """(kind, position after the word) of the line that starts at i."""
     while i < n and _space(text[i]):
@@ -60,14 +61,14 @@ def _kind(text, i, n):
     return OTHER, i
 
 
-@njit(cache=True)
+@jit_host
 def _end(text, i, n):
     while i < n and text[i] != 10:
         i += 1
     return i
 
 
-@njit(cache=True)
+@jit_host
 def _stop(c):
     """Whether c ends a number or a corner: a space, or a '#' (a comment to
     the end of the line; checked here, where a word ends, rather than for
@@ -78,7 +79,7 @@ def _stop(c):
 EXACT, HARD, BAD = 0, 1, 2
 
 
-@njit(cache=True)
+@jit_host
 def _number(text, i, end, pow10):
     """(value, start, next position, status) of the decimal number at i
     (spaces first): EXACT, parsed here; HARD, well formed but beyond the fast
@@ -144,7 +145,7 @@ def _number(text, i, end, pow10):
 ABSENT, PRESENT, ZERO = 0, 1, 2
 
 
-@njit(cache=True)
+@jit_host
 def _index(text, i, end, count):
     """(0-based index, next position, ABSENT/PRESENT/ZERO) of one index of a
     corner (after it: '/', a space or the end); count: the items of its kind
@@ -167,7 +168,7 @@ def _index(text, i, end, count):
     return (count - k) if negative else (k - 1), i, PRESENT
 
 
-@njit(cache=True)
+@jit_host
 def _corner(text, j, end, nv, nvt, nvn):
     """((v, vt, vn), (their states), next position, ok): one corner of a
     face, -1 for an index it does not name; ok False if it is not one of the
@@ -193,7 +194,7 @@ def _corner(text, j, end, nv, nvt, nvn):
 READ, CONTINUED, NOT_NUMBER, NOT_CORNER, ZERO_INDEX, OUT_OF_RANGE = range(6)
 
 
-@njit(cache=True)
+@jit_host
 def _scan(text, pow10, fill, v, vt, vn, corners, hard):
     """Count (fill False) or read (fill True) the file's lines: (vertices,
     uvs, normals, triangles, numbers left to float(), status, part, line,

@@ -5,20 +5,17 @@ compile, and the cache written by one run is reused by the next.
 """
 import gc
 import hashlib
-import os
 from contextlib import contextmanager
 from pathlib import Path
 
-from llvmlite import binding as ll
-from numba import config, njit, types
-from numba.core.caching import CompileResultCacheImpl, FunctionCache
-from numba.core.codegen import JITCodeLibrary
-from numba.core.compiler import Compiler
-from numba.core.compiler_lock import require_global_compiler_lock
+from numba import njit, types
 from numba.core.errors import TypingError
 from numba.core.registry import CPUDispatcher
 from numba.extending import overload
 from numba.np.numpy_support import as_dtype
+
+from .disk_cache import PackageCache
+from .step_library import StepCache, StepCompiler
 
 # fastmath without 'nnan' and 'ninf': those let LLVM assume no NaN/inf exists,
 # which silently breaks `t_max = inf` and the NaN checks that drop bad samples.
@@ -36,9 +33,9 @@ FASTMATH = {"nsz", "arcp", "afn"}
 # error_model='numpy': a division by zero gives inf or nan instead of raising,
 # and no kernel pays for the zero checks.  Every function is compiled with it,
 # steps included, whatever calls them.
-_OPTIONS = dict(cache=True, fastmath=FASTMATH, error_model="numpy")
+_OPTIONS = dict(fastmath=FASTMATH, error_model="numpy")
 # A step (jit_step): no reference counting (its callers hold the arrays), no
-# wrappers for Python; caching is switched on by the dispatcher.
+# wrappers for Python, compiled into IR for kernels only (step_library.py).
 _STEP_OPTIONS = dict(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True,
                      fastmath=FASTMATH, error_model="numpy")
 
@@ -47,13 +44,10 @@ PACKAGE = Path(__file__).resolve().parent.parent
 
 
 def source_digest(root=PACKAGE):
-    """A hash of every .py file under `root` (the whole package, subpackages too).
-
-    Numba checks a cached kernel against the timestamp of its own file only,
-    not of the files its callees live in: edit path/pdf.py and the render
-    kernel would still load the old code.  Keying the cache folder by every
-    source file makes any edit (or upgrade) compile afresh.
-    """
+    """A hash of every .py file under `root` (the whole package, subpackages
+    too): the workers of a distributed render must run the same sources
+    (distributed/worker.py).  The cache keys each kernel by the sources it is
+    built from (disk_cache.py)."""
     h = hashlib.sha256()
     for path in sorted(Path(root).rglob("*.py")):
         h.update(path.relative_to(root).as_posix().encode())
@@ -65,120 +59,10 @@ def source_digest(root=PACKAGE):
 SOURCE_DIGEST = source_digest()
 
 
-def _cache_dir():
-    """$NUMBA_CACHE_DIR, else the user's cache folder; a subfolder per source hash.
-
-    A user cache folder also works for a read-only installed package.
-    """
-    base = config.CACHE_DIR or os.path.join(
-        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
-        "rtweekend")
-    path = os.path.join(base, f"numba-{SOURCE_DIGEST}")
-    try:
-        os.makedirs(path, exist_ok=True)
-    except OSError:
-        return config.CACHE_DIR     # unwritable: Numba's own fallbacks
-    return path
-
-
-# Must be set before the first @njit(cache=True) below creates its cache.
-config.CACHE_DIR = _cache_dir()
-
-
-# How a step's library is kept in the cache: LLVM bitcode for linking, no
-# machine code (Numba's own kinds are 'object' and 'bitcode').
-STEP_KIND = "rtweekend-step"
-
-
-class StepLibrary(JITCodeLibrary):
-    """A step's code: IR that kernels link in and inline, never run on its own.
-
-    Numba finalises every function it compiles as if it could be called: the
-    module optimised at O3 with its callees linked in, then turned into machine
-    code.  A step is only ever inlined into its callers, which optimise it
-    again there, so each level of a call chain optimised everything below it
-    once more, and its machine code was never run.  A step's library stops at
-    the per-function passes (run as its IR is added) and the linking of its
-    callees; the kernel that inlines it optimises the whole once, and only the
-    kernel becomes machine code.
-    """
-
-    def finalize(self):
-        require_global_compiler_lock()
-        self._raise_if_finalized()
-        seen = set()
-        for library in self._linking_libraries:
-            if library not in seen:
-                seen.add(library)
-                self._reload_init.update(library._reload_init)
-                self._final_module.link_in(library._get_module_for_linking(), preserve=True)
-        self._finalize_dynamic_globals()
-        self._finalized = True
-
-    @property
-    def codegen(self):
-        """The codegen, except that a step's environment pointer is not set:
-        that needs its module in the engine (its machine code), and a step
-        has no use for it (no Python objects, no NRT)."""
-        return _NoEnvironment(self._codegen)
-
-    def get_pointer_to_function(self, name):
-        """No machine code: no function to point to (a step has no wrapper for
-        Python anyway; Python calls it through an entry, jit_step's __call__)."""
-        self._ensure_finalized()
-        return 0
-
-    def serialize_using_object_code(self):
-        return (self.name, STEP_KIND, self._get_module_for_linking().as_bitcode())
-
-    @classmethod
-    def _unserialize(cls, codegen, state):
-        name, kind, bitcode = state
-        if kind != STEP_KIND:
-            return JITCodeLibrary._unserialize(codegen, state)
-        self = cls(codegen, name)
-        self._final_module = ll.parse_bitcode(bitcode)
-        self._finalized = True
-        return self
-
-
-class _NoEnvironment:
-    """A codegen whose set_env does nothing (StepLibrary.codegen)."""
-
-    def __init__(self, codegen):
-        self._codegen = codegen
-
-    def __getattr__(self, name):
-        return getattr(self._codegen, name)
-
-    def set_env(self, env_name, env):
-        pass
-
-
-class _StepCompiler(Compiler):
-    """Numba's pipeline, lowering a step into a StepLibrary."""
-
-    def compile_extra(self, func):
-        if self.state.library is None:
-            self.state.library = StepLibrary(self.state.targetctx.codegen(), func.__qualname__)
-            self.state.library.enable_object_caching()
-        return super().compile_extra(func)
-
-
-class _StepCacheImpl(CompileResultCacheImpl):
-    def rebuild(self, target_context, payload):
-        # Numba rebuilds a cached result through codegen.unserialize_library;
-        # for the duration (under the compiler lock) that is StepLibrary's.
-        codegen = target_context.codegen()
-        codegen.unserialize_library = lambda state: StepLibrary._unserialize(codegen, state)
-        try:
-            return super().rebuild(target_context, payload)
-        finally:
-            del codegen.unserialize_library
-
-
-class _StepCache(FunctionCache):
-    _impl_class = _StepCacheImpl
+def _cached(dispatcher):
+    """The dispatcher, with its compiled code kept in the package's cache."""
+    dispatcher._cache = PackageCache(dispatcher.py_func)
+    return dispatcher
 
 
 class _InlinedDispatcher(CPUDispatcher):
@@ -250,8 +134,8 @@ def jit_step(fn):
     kernels hold no call to a step).
     """
     dispatcher = _InlinedDispatcher(py_func=fn, locals={}, targetoptions=_STEP_OPTIONS,
-                                    pipeline_class=_StepCompiler)
-    dispatcher._cache = _StepCache(fn)
+                                    pipeline_class=StepCompiler)
+    dispatcher._cache = StepCache(fn)
     return dispatcher
 
 
@@ -261,7 +145,7 @@ def jit_kernel(fn):
 
     nogil: it releases the GIL, so threads render rows side by side, and the
     main thread stays awake to Ctrl-C while it runs (kernel/calls.py)."""
-    return njit(nogil=True, **_OPTIONS)(fn)
+    return _cached(njit(nogil=True, **_OPTIONS)(fn))
 
 
 def jit_parallel(fn):
@@ -270,7 +154,16 @@ def jit_parallel(fn):
     nogil: the drivers call it from a worker thread while the main thread
     waits awake to Ctrl-C (kernel/calls.py); it releases the GIL, or the main
     thread could not run the signal handler until the kernel returned."""
-    return njit(parallel=True, nogil=True, **_OPTIONS)(fn)
+    return _cached(njit(parallel=True, nogil=True, **_OPTIONS)(fn))
+
+
+def jit_host(fn=None, *, parallel=False):
+    """A compiled function called from Python that is no render kernel: the
+    scene's packing, the BVH build, the OBJ reader.  Numba's defaults (no
+    fastmath: nothing here is in the image's hot path), the package's cache."""
+    if fn is None:
+        return lambda fn: jit_host(fn, parallel=parallel)
+    return _cached(njit(parallel=parallel)(fn))
 
 
 def like(x, value):

@@ -20,8 +20,9 @@ version of this algorithm builds (tests/test_hittables.py compares them).
 """
 import numba
 import numpy as np
-from numba import njit, prange
+from numba import prange
 
+from ..kernel.jit import jit_host
 from . import shapes
 from .layout import OBJ_KIND, TRIANGLE
 from .shapes import triangle
@@ -49,7 +50,7 @@ def object_bounds(obj_i, obj_f):
     return out
 
 
-@njit(cache=True)
+@jit_host
 def _pad(out, k):
     """Widen box k by 1e-9 of its largest coordinate (at least 1e-9)."""
     big = 1.0
@@ -61,7 +62,7 @@ def _pad(out, k):
         out[k, 3 + c] += pad
 
 
-@njit(cache=True)
+@jit_host
 def _triangle_bounds(obj_f, rows, out):
     for k in rows:
         for c in range(3):
@@ -80,13 +81,13 @@ def build_bvh(obj_i, obj_f, ids=None):
     return _build(bounds, ids.astype(np.int64).copy())
 
 
-@njit(cache=True)
+@jit_host
 def _area(lx, ly, lz, hx, hy, hz):
     ex, ey, ez = max(hx - lx, 0.0), max(hy - ly, 0.0), max(hz - lz, 0.0)
     return 2.0 * (ex * ey + ey * ez + ez * ex)
 
 
-@njit(cache=True)
+@jit_host
 def _bins(bounds, centroids, ids, start, end, lo_c, extent, bin_of, count, blo, bhi):
     """Each object's bin on every axis of non-zero extent (bin_of[axis, j -
     start]), and the bins' counts and boxes (count, blo, bhi [axis, bin]): one
@@ -107,7 +108,7 @@ def _bins(bounds, centroids, ids, start, end, lo_c, extent, bin_of, count, blo, 
                 bhi[axis, i, c] = max(bhi[axis, i, c], bounds[k, 3 + c])
 
 
-@njit(cache=True)
+@jit_host
 def _costs(count, blo, bhi, parent, cost):
     """cost[s]: the SAH cost of splitting after bin s, s < BINS - 1 (a row of
     the arrays _bins fills)."""
@@ -135,7 +136,7 @@ def _costs(count, blo, bhi, parent, cost):
             cost[i] = TRAVERSAL_COST + (left_n * cost[i] + right_n * right_a) / parent
 
 
-@njit(cache=True)
+@jit_host
 def _split(bounds, centroids, ids, start, end, goes_left, box, bin_of, count, blo, bhi,
            cost, c3):
     """Fill goes_left[:n] for the cheapest binned split of ids[start:end];
@@ -166,7 +167,7 @@ def _split(bounds, centroids, ids, start, end, goes_left, box, bin_of, count, bl
     return found
 
 
-@njit(cache=True)
+@jit_host
 def _median_split(centroids, ids, start, end, goes_left):
     """The first half, by centroid on the longest centroid axis (stable), goes left."""
     n = end - start
@@ -200,7 +201,7 @@ def _build(bounds, ids, task=None):
     return _build_parallel(bounds, centroids, ids, task)
 
 
-@njit(cache=True)
+@jit_host
 def _scratch(n):
     """_grow's working arrays for a subtree of n objects."""
     # Made once per subtree: allocating them per node took most of the
@@ -211,7 +212,7 @@ def _scratch(n):
             np.empty((3, 3)), np.empty((n + 1, 4), dtype=np.int64))
 
 
-@njit(cache=True)
+@jit_host
 def _grow(bounds, centroids, ids, start0, end0, depth0, box, node, right, task, tasks):
     """Build the subtree of ids[start0:end0] (at depth0) into rows 0, 1, ...
     of box, node, right, depth first, left first; a node below the root with
@@ -269,7 +270,7 @@ def _grow(bounds, centroids, ids, start0, end0, depth0, box, node, right, task, 
     return count, made
 
 
-@njit(cache=True, parallel=True)
+@jit_host(parallel=True)
 def _build_parallel(bounds, centroids, ids, task):
     n = ids.shape[0]
     rows = max(2 * n - 1, 1)

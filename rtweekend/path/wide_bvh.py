@@ -44,10 +44,10 @@ the same bits as its obj_f row.
 import math
 
 import numpy as np
-from numba import literal_unroll, njit
+from numba import literal_unroll
 
 from ..kernel import simd
-from ..kernel.jit import jit_step, like
+from ..kernel.jit import jit_host, jit_step, like
 from ..kernel.stack import stack_array
 from ..kernel.vec3 import reciprocal
 from . import shapes
@@ -78,7 +78,7 @@ def wide_tables(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, triangles=True):
     return wide_box, wide_child, leaf_prim, leaf_tri
 
 
-@njit(cache=True)
+@jit_host
 def _count_blocks(wide_child):
     blocks = 0
     for w in range(wide_child.shape[0]):
@@ -88,7 +88,7 @@ def _count_blocks(wide_child):
     return blocks
 
 
-@njit(cache=True)
+@jit_host
 def _blocks(obj_i, obj_f, prims, wide_child, leaf_prim, leaf_tri):
     """The leaves' objects into blocks, in the order of the nodes that hold
     them; each leaf's code turned from (first object, count) to (first
@@ -113,13 +113,13 @@ def _blocks(obj_i, obj_f, prims, wide_child, leaf_prim, leaf_tri):
             b += (count + WIDTH - 1) // WIDTH
 
 
-@njit(cache=True)
+@jit_host
 def _area(box, i):
     ex, ey, ez = box[i, 3] - box[i, 0], box[i, 4] - box[i, 1], box[i, 5] - box[i, 2]
     return ex * ey + ey * ez + ez * ex
 
 
-@njit(cache=True)
+@jit_host
 def _collapse(box, node, merge):
     n = node.shape[0]
     # each binary node's objects: bvh_prims[first[i]:first[i] + size[i]]

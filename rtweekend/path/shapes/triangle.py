@@ -38,10 +38,9 @@ none of the triangle's code (practice 5 of the design notes).
 import math
 
 import numpy as np
-from numba import njit
 
 from ...kernel import rng
-from ...kernel.jit import jit_step, like
+from ...kernel.jit import jit_host, jit_step, like
 from ...kernel.vec3 import cross, dot, sub
 
 INF = math.inf
@@ -55,7 +54,7 @@ INDEX = 13
 FLOATS = 14
 
 
-@njit(cache=True)
+@jit_host
 def pack(vertices, faces, first_index, block):
     """Fill block [F, >= FLOATS] with the triangles faces[f] of vertices (V x 3,
     placed in the world); their table rows start at first_index.  (NumPy's

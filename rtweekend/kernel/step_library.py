@@ -1,0 +1,112 @@
+"""How a step (kernel/jit.py jit_step) is compiled: into LLVM IR that kernels
+link in and inline, never into machine code of its own.
+
+Numba finalises every function it compiles as if it could be called: the
+module optimised at O3 with its callees linked in, then turned into machine
+code.  A step is only ever inlined into its callers, which optimise it again
+there; so each level of a call chain optimised everything below it once more,
+and the machine code was never run.  A step's library (StepLibrary) stops at
+the per-function passes Numba runs as IR is added, and at linking its callees
+in; the kernel that inlines it optimises the whole once, and only the kernel
+becomes machine code.  In the cache a step is its IR (bitcode), which a
+kernel compiled later links in.
+
+Numba internals this leans on, each checked by tests/test_cache.py (the
+same bits compiled and loaded, no step left as a call, a step called from
+Python): CPUCodeLibrary's linking and serialisation, the compiler pipeline's
+`state.library`, and CompileResult's rebuild through
+codegen.unserialize_library.
+"""
+from llvmlite import binding as ll
+from numba.core.codegen import JITCodeLibrary
+from numba.core.compiler import Compiler
+from numba.core.compiler_lock import require_global_compiler_lock
+
+from . import disk_cache
+
+# How a step's library is kept in the cache: bitcode for linking, no machine
+# code (Numba's own kinds are 'object' and 'bitcode').
+KIND = "rtweekend-step"
+
+
+class StepLibrary(JITCodeLibrary):
+    """A step's code: IR for linking only (above)."""
+
+    def finalize(self):
+        require_global_compiler_lock()
+        self._raise_if_finalized()
+        seen = set()
+        for library in self._linking_libraries:
+            if library not in seen:
+                seen.add(library)
+                self._reload_init.update(library._reload_init)
+                self._final_module.link_in(library._get_module_for_linking(), preserve=True)
+        self._finalize_dynamic_globals()
+        self._finalized = True
+
+    @property
+    def codegen(self):
+        """The codegen, whose set_env does nothing for a step: setting a
+        function's environment needs its module in the JIT engine (machine
+        code), and a step has no use for one (no Python objects, no NRT)."""
+        return _NoEnvironment(self._codegen)
+
+    def get_pointer_to_function(self, name):
+        """No machine code, so no address (a step has no wrapper for Python
+        anyway: Python calls it through an entry, jit.py)."""
+        self._ensure_finalized()
+        return 0
+
+    def serialize_using_object_code(self):
+        return (self.name, KIND, self._get_module_for_linking().as_bitcode())
+
+    @classmethod
+    def _unserialize(cls, codegen, state):
+        name, kind, bitcode = state
+        if kind != KIND:
+            return JITCodeLibrary._unserialize(codegen, state)
+        self = cls(codegen, name)
+        self._final_module = ll.parse_bitcode(bitcode)
+        self._finalized = True
+        return self
+
+
+class _NoEnvironment:
+    """A codegen whose set_env does nothing (StepLibrary.codegen)."""
+
+    def __init__(self, codegen):
+        self._codegen = codegen
+
+    def __getattr__(self, name):
+        return getattr(self._codegen, name)
+
+    def set_env(self, env_name, env):
+        pass
+
+
+class StepCompiler(Compiler):
+    """Numba's pipeline, lowering a step into a StepLibrary."""
+
+    def compile_extra(self, func):
+        if self.state.library is None:
+            self.state.library = StepLibrary(self.state.targetctx.codegen(), func.__qualname__)
+            self.state.library.enable_object_caching()
+        return super().compile_extra(func)
+
+
+class _StepCacheImpl(disk_cache.PackageCache._impl_class):
+    def rebuild(self, target_context, payload):
+        # Numba rebuilds a cached result through codegen.unserialize_library;
+        # for the duration (under the compiler lock) that is StepLibrary's.
+        codegen = target_context.codegen()
+        codegen.unserialize_library = lambda state: StepLibrary._unserialize(codegen, state)
+        try:
+            return super().rebuild(target_context, payload)
+        finally:
+            del codegen.unserialize_library
+
+
+class StepCache(disk_cache.PackageCache):
+    """The package's cache, keeping a step as its IR."""
+
+    _impl_class = _StepCacheImpl
