@@ -10,6 +10,7 @@ from collections.abc import Callable, Sequence
 from .classic.render import render_classic
 from .distributed import client as dask_driver
 from .distributed.cluster import check_render
+from .io.progress import Spinner
 from .local import render_locally
 from .options import RenderOptions
 from .errors import SceneError
@@ -77,11 +78,12 @@ def render(scene: Scene, spp: int | None = None, *, seed: int = 0,
                             progress=progress)
     if integrator == "classic":
         return render_classic(scene, options)
-    renderer = Renderer(scene, options)
-    if spp is None and time is None:
-        spp = scene.spp
-    if client is not None:
-        if preview:
-            raise SceneError("render: preview: shows a local render; not with a client")
-        return dask_driver.render_on_cluster(client, renderer, spp, time)
-    return render_locally(renderer, spp, time)
+    with Spinner(progress is True):         # from the first compile: packing, the BVH
+        renderer = Renderer(scene, options)
+        if spp is None and time is None:
+            spp = scene.spp
+        if client is not None:
+            if preview:
+                raise SceneError("render: preview: shows a local render; not with a client")
+            return dask_driver.render_on_cluster(client, renderer, spp, time)
+        return render_locally(renderer, spp, time)

@@ -20,6 +20,7 @@ from .version import version
 from .options import SAMPLINGS
 
 DEFAULT_SCENE = "cornell_glass"
+EXIT_FAILED = 1
 EXIT_BAD_INPUT = 2
 EXIT_INTERRUPTED = 130
 RENDER_EPILOG = """\
@@ -172,6 +173,12 @@ def _main(argv):
     except SceneError as e:
         print(f"rtweekend: error: {e}", file=sys.stderr)
         return EXIT_BAD_INPUT
+    except RuntimeError as e:
+        from .kernel.compile_workers import CompileError
+        if not isinstance(e, CompileError):
+            raise
+        print(f"rtweekend: error: {e}", file=sys.stderr)
+        return EXIT_FAILED
     except MemoryError:
         # The memory check (memory.py) comes first; this is its safety net.
         print("rtweekend: error: out of memory: render a smaller image; nothing written",
@@ -227,10 +234,12 @@ def _render(args):
     from .api import render
     from .distributed import dask_client
     from .io.image import check_output_path, save_image
+    from .io.progress import Spinner
     from .kernel.calls import call_awake
     from .scene.loader import load_scene
 
-    scene = load_scene(args.scene)
+    with Spinner(not args.quiet):       # a mesh file's reader may compile first
+        scene = load_scene(args.scene)
     output = Path(args.output) if args.output else Path(f"{scene.name}.png")
     check_output_path(output)            # before spending minutes on the render
     layered = output.suffix.lower() in (".npy", ".exr")

@@ -8,15 +8,13 @@ depend only on its sample indices, so the image does not depend on how the
 work was split into passes.  The kernels run in a worker thread while this
 thread waits awake to Ctrl-C (kernel/calls.py).
 """
-import time as _time
-
 import numba
 
 from .io.preview import NotebookPreview
 from .io.tev import TevPreview
-from .io.progress import Progress, StopOnInterrupt
+from .io.progress import Progress, Spinner, StopOnInterrupt
+from .kernel import compile_workers
 from .kernel.calls import Abandoned, call_awake
-from .path.integrators import ESTIMATORS
 
 PASS_SECONDS = 0.5      # short passes: a smooth progress bar, a quick Ctrl-C
 GROWTH = 4              # a pass does at most this many times the work of the last
@@ -27,7 +25,8 @@ def render_locally(renderer, spp, time):
     """Passes until spp samples per pixel (or `time` seconds) are rendered, with
     the renderer's options' progress (and threads: Renderer.add_samples).
 
-    Ctrl-C during the compile stops at once (nothing rendered: spp 0); after,
+    Ctrl-C during the compile stops at once (nothing rendered: spp 0; the
+    helper processes compiling beside it are stopped too); after,
     it finishes the current pass and returns what was rendered
     (stats.interrupted); a second Ctrl-C raises KeyboardInterrupt at once.
     """
@@ -35,16 +34,13 @@ def render_locally(renderer, spp, time):
     preview = _preview(renderer)
     threads = renderer.options.threads or numba.get_num_threads()
     interrupted = False
-    compiled = False
     try:
-        with StopOnInterrupt() as stop:
-            misses = _compiles()
+        with StopOnInterrupt() as stop, Spinner(renderer.options.progress is True):
             try:
-                call_awake(renderer.compile, stop, abandon=True, tick=report.tick)
+                call_awake(renderer.compile, stop, abandon=True)
             except Abandoned:
-                renderer.compile_seconds = _time.perf_counter() - report.t0
+                compile_workers.stop_all()      # helper processes too: now
                 interrupted = True
-            compiled = _compiles() > misses
             if not interrupted:
                 report.started()
                 passes, last = 0, 0
@@ -65,7 +61,7 @@ def render_locally(renderer, spp, time):
         report.close()
     result = renderer.result(spp_requested=spp, interrupted=interrupted,
                              stopped_by="Ctrl-C")
-    result.stats.compiled = compiled
+    result.stats.compiled = result.stats.compile_seconds > 0
     if preview is not None:
         preview.show(result)             # the last image stays shown, Ctrl-C or not
         preview.close()
@@ -78,11 +74,6 @@ def _preview(renderer):
     if isinstance(how, str):
         return TevPreview(how, renderer.name, renderer.width, renderer.height)
     return NotebookPreview() if how else None
-
-
-def _compiles():
-    """How many times a render kernel was compiled, not loaded from the cache."""
-    return sum(sum(m.render_pass.stats.cache_misses.values()) for m in ESTIMATORS.values())
 
 
 def next_pass(r, spp, budget, last, threads=1):

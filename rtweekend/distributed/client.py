@@ -147,7 +147,7 @@ class _Render:
             warnings.warn("the Dask workers' CPU or Numba differ from this machine's: the "
                           "image may differ from a local render in its last bits",
                           RuntimeWarning, stacklevel=4)
-        self.r.compile_seconds = _time.perf_counter() - t0
+        self.r.remote_compile_seconds = _time.perf_counter() - t0
 
     def _warm(self, workers, stop):
         """warm_worker on each of these workers; what they say about themselves."""

@@ -46,28 +46,16 @@ class Progress:
         self.callback = progress if callable(progress) else None
         self.spp, self.time = spp, time
         self.t0 = time_.perf_counter()
-        self._drawn = 0.0              # when tick() last redrew the bar
         self.bar = None
-        if progress is True:
-            tqdm = _tqdm()
-            self.bar = tqdm(total=None, desc="compiling", leave=False, dynamic_ncols=True,
-                            file=sys.stderr, bar_format="{desc} ({elapsed})")
-
-    def tick(self):
-        """While compiling: redraw the bar twice a second, so that its clock
-        runs (a cold compile takes 6-13 s: a frozen 00:00 looks hung)."""
-        if self.bar is not None:
-            now = time_.perf_counter()
-            if now - self._drawn >= 0.5:
-                self._drawn = now
-                self.bar.refresh()
+        self._show = progress is True    # the bar appears once the passes start
 
     def started(self):
-        """Compiling is over: restart the bar's clock so its rate is honest."""
-        if self.bar is not None:
-            self.bar.set_description("render", refresh=False)
-            self.bar.bar_format = self.FORMAT
-            self.bar.reset(total=self.time if self.time is not None else self.spp)
+        """Compiling is over (Spinner said so while it lasted): the bar, its
+        clock starting now, so its rate is honest."""
+        if self._show:
+            self.bar = _tqdm()(total=self.time if self.time is not None else self.spp,
+                               desc="render: ", leave=False, dynamic_ncols=True, file=sys.stderr,
+                               bar_format=self.FORMAT)
 
     def update(self, renderer, passes):
         r = renderer
@@ -88,6 +76,60 @@ class Progress:
     def close(self):
         if self.bar is not None:
             self.bar.close()
+
+
+class Spinner:
+    """"compiling (00:07)" on stderr while anything compiles (and after GRACE
+    seconds of it, so a run whose kernels are all cached shows nothing), from
+    the first compile on: reading a mesh file, packing the scene, its BVH, the
+    kernels (kernel/compile_clock.py says when something compiles).
+
+        with Spinner(enabled):
+            ...                          # a render: one spinner, however nested
+    """
+
+    GRACE = 0.25         # seconds a compile runs before the spinner shows
+    REDRAW = 0.5         # seconds between redraws of its clock
+    _active = 0          # spinners entered and not left (the outermost draws)
+
+    def __init__(self, enabled=True):
+        self.enabled = enabled
+        self._stop = threading.Event()
+        self._thread = None
+
+    def __enter__(self):
+        Spinner._active += 1
+        if self.enabled and Spinner._active == 1:
+            self._thread = threading.Thread(target=self._run, name="rtweekend-spinner",
+                                            daemon=True)
+            self._thread.start()
+        return self
+
+    def __exit__(self, *exc):
+        Spinner._active -= 1
+        if self._thread is not None:
+            self._stop.set()
+            self._thread.join()
+
+    def _run(self):
+        from ..kernel import compile_clock
+        bar = None
+        while not self._stop.wait(0.05):
+            running = compile_clock.running()
+            if running is not None and running >= self.GRACE:
+                if bar is None:
+                    bar, drawn = _tqdm()(total=None, leave=False, dynamic_ncols=True,
+                                         file=sys.stderr, bar_format="{desc}"), 0.0
+                now = time_.perf_counter()
+                if now - drawn >= self.REDRAW:
+                    minutes, seconds = divmod(int(running), 60)
+                    bar.set_description_str(f"compiling ({minutes:02d}:{seconds:02d})")
+                    drawn = now
+            elif bar is not None:
+                bar.close()
+                bar = None
+        if bar is not None:
+            bar.close()
 
 
 def _tqdm():

@@ -16,6 +16,8 @@ from typing import NamedTuple
 import numba
 import numpy as np
 
+from ..kernel import compile_workers
+from ..kernel.compile_clock import Stopwatch
 from ..kernel.jit import collector_paused
 from .. import checks, memory
 from ..denoise import denoise as denoise_image
@@ -133,6 +135,18 @@ def kernel(frame):
     return ESTIMATORS[frame.estimator]
 
 
+def kernel_calls(frame, film, denoise=False):
+    """[(kernel, arguments)] of every kernel a render of `frame` calls, with no
+    samples: the estimator's, the photon maps' tracer, the denoiser's passes."""
+    calls = [(kernel(frame).render_pass, (film, frame.scene, frame.params, frame.rows[:0],
+                                          0, 0, *frame.features))]
+    if frame.features.caustics is not None:
+        calls.append(photons.kernel_call(frame))
+    if denoise:
+        calls.extend(seen_light.kernel_calls(frame))
+    return calls
+
+
 def splats(frame):
     """Does the estimator of `frame` splat (its film needs the splat arrays)?"""
     return kernel(frame).SPLATS
@@ -175,6 +189,7 @@ class Renderer:
             options = RenderOptions.named("Renderer", "path", **fields)
         elif fields:
             raise TypeError("Renderer: give options or fields, not both")
+        self._compiling = Stopwatch()     # every compile from here on counts
         self.options = options = options.for_scene(scene)     # the default, named
         for doubt in scene.doubts():
             warnings.warn(doubt, SceneWarning, stacklevel=2)
@@ -188,20 +203,26 @@ class Renderer:
         self.band = 0              # a pass over part of the rows in progress: its spp
         self.rows_done = 0         # ... and how many of frame.rows have them
         self.seconds = 0.0         # time spent in passes
-        self.compile_seconds = 0.0
+        self.remote_compile_seconds = 0.0   # waiting for Dask workers to compile
         self.threads = None        # Numba threads of the last pass here
         self._preview = None       # show()'s display in a notebook
 
     def compile(self) -> float:
-        """Compile the kernel (or load it from the cache) with no samples; and the
-        denoiser's pass (seen_light.py) when the options denoise."""
-        t0 = _time.perf_counter()
+        """Compile every kernel the render calls (or load them from the cache):
+        the estimator's, the photon maps' tracer, the denoiser's passes when
+        the options denoise -- those missing from the cache side by side
+        (kernel/compile_workers.py).  Returns compile_seconds."""
         with collector_paused(), thread_count(self.options.threads):
-            render_samples(self.frame, self.film, 0, 0)
-            if self.options.denoise:
-                seen_light.compile_for(self.frame)
-        self.compile_seconds = _time.perf_counter() - t0
+            compile_workers.compile_all(kernel_calls(self.frame, self.film,
+                                                     bool(self.options.denoise)))
         return self.compile_seconds
+
+    @property
+    def compile_seconds(self) -> float:
+        """Seconds spent compiling since this Renderer was made: packing the
+        scene and building its BVH, every kernel, and waiting for the helper
+        processes (kernel/compile_clock.py) or Dask workers that compiled some."""
+        return self._compiling.seconds() + self.remote_compile_seconds
 
     def show(self) -> None:
         """In a Jupyter notebook: show the result so far, in one display that

@@ -247,14 +247,16 @@ def rays_per_pixel(marked, per_ray, spp, render_segments):
     return n if n >= N_MIN else 0
 
 
-def compile_for(frame):
-    """Compile both passes (or load them from the cache) for frame, with no rays."""
+def kernel_calls(frame):
+    """[(kernel, arguments)] of both passes for frame, with no rays: what
+    Renderer.compile compiles (kernel/compile_workers.py)."""
     h, w = frame.height, frame.width
     f, none = frame.features, frame.rows[:0]
-    pilot_pass(np.zeros((h + 1, w + 1, 3)), np.zeros((h, w, 3)), np.zeros((h, w), np.int64),
-               frame.scene, frame.params, none, 0, f.textures, f.media, f.motion)
-    refine_pass(np.zeros((h, w, 3)), np.zeros((h, w), np.bool_), frame.scene, frame.params,
-                none, 1, 0, f.textures, f.media, f.motion)
+    return [(pilot_pass, (np.zeros((h + 1, w + 1, 3)), np.zeros((h, w, 3)),
+                          np.zeros((h, w), np.int64), frame.scene, frame.params, none, 0,
+                          f.textures, f.media, f.motion)),
+            (refine_pass, (np.zeros((h, w, 3)), np.zeros((h, w), np.bool_), frame.scene,
+                           frame.params, none, 1, 0, f.textures, f.media, f.motion))]
 
 
 def pilot(frame, threads):

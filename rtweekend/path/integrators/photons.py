@@ -116,6 +116,14 @@ def build(caustics, scene, params, textures, s0, s1, threads):
     return grid(caustics, maps_f, maps_i, s0)
 
 
+def kernel_call(frame):
+    """(kernel, arguments) of the photon tracer for frame, with no photons:
+    what Renderer.compile compiles (kernel/compile_workers.py)."""
+    none = np.zeros(0, dtype=np.int64)
+    return trace_maps, (frame.scene, frame.params, 0, none, np.zeros((0, PF)),
+                        np.zeros((0, 2), dtype=np.int64), frame.features.textures)
+
+
 def grid(caustics, maps_f, maps_i, s0):
     """Caustics holding the maps of samples s0, s0 + 1, ... made of the
     photons maps_f[m] / maps_i[m]: each map's photons sorted by the slot of their
