@@ -11,6 +11,7 @@ from .classic.render import render_classic
 from .distributed import client as dask_driver
 from .distributed.cluster import check_render
 from .io.progress import Spinner
+from .kernel.compile_workers import prestart
 from .local import render_locally
 from .options import RenderOptions
 from .errors import SceneError
@@ -78,6 +79,8 @@ def render(scene: Scene, spp: int | None = None, *, seed: int = 0,
                             progress=progress)
     if integrator == "classic":
         return render_classic(scene, options)
+    if client is None:
+        prestart()          # a helper process that can compile beside this one
     with Spinner(progress is True):         # from the first compile: packing, the BVH
         renderer = Renderer(scene, options)
         if spp is None and time is None:

@@ -11,6 +11,7 @@ import os
 import signal
 import sys
 import threading
+import traceback
 from pathlib import Path
 
 from . import checks
@@ -184,13 +185,21 @@ def _main(argv):
         print("rtweekend: error: out of memory: render a smaller image; nothing written",
               file=sys.stderr)
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as e:
         # A second Ctrl-C, one before rendering began, or one during the write:
         # stop at once.  The files being written are removed; nothing else was.
         writer = sys.modules.get(f"{__package__}.io.image")   # loaded if it wrote
         if writer is not None:
             writer.abandon_writes()
-        _leave(EXIT_INTERRUPTED, "rtweekend: interrupted; nothing written")
+        _leave(EXIT_INTERRUPTED, f"rtweekend: {_what_was_interrupted(e)}; nothing written")
+
+
+def _what_was_interrupted(error):
+    """"Ctrl-C while compiling" when Numba was compiling (reading a mesh or
+    packing the scene compiles too), else "interrupted"."""
+    frames = traceback.extract_tb(error.__traceback__)
+    compiling = any("/numba/" in frame.filename.replace("\\", "/") for frame in frames)
+    return "Ctrl-C while compiling" if compiling else "interrupted"
 
 
 def _leave(status, line):
@@ -236,8 +245,11 @@ def _render(args):
     from .io.image import check_output_path, save_image
     from .io.progress import Spinner
     from .kernel.calls import call_awake
+    from .kernel.compile_workers import prestart
     from .scene.loader import load_scene
 
+    if not (args.scheduler or args.workers):
+        prestart()      # a helper process: it can compile beside this one (compile_workers)
     with Spinner(not args.quiet):       # a mesh file's reader may compile first
         scene = load_scene(args.scene)
     output = Path(args.output) if args.output else Path(f"{scene.name}.png")

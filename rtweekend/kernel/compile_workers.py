@@ -18,6 +18,7 @@ clear error naming what it compiled.
 import atexit
 import os
 import pickle
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -25,10 +26,11 @@ import threading
 
 import numba
 
-from . import compile_clock, disk_cache
+from . import claims, disk_cache
 
 POLL = 0.05          # seconds between looks at a helper
 STARTED = [0]        # helpers this process has started (tests, benchmarks)
+SHARE = {}           # the last shared compile: {pid: functions it compiled} (tests, benchmarks)
 _HELPERS = set()     # the helpers running now
 _LOCK = threading.Lock()
 
@@ -77,62 +79,73 @@ def loaded(dispatcher, sig):
 
 def compile_all(calls):
     """Compile (or load from the cache) each (dispatcher, args) of `calls` for
-    its arguments' types: the first missing one here, the other missing ones
-    in helpers at the same time."""
+    its arguments' types: the first missing one here, with the help of helper
+    processes that compile the other missing ones first (kernel/claims.py)."""
     sigs = [(d, signature(args)) for d, args in calls]
     missing = [(d, sig) for d, sig in sigs if not loaded(d, sig)]
-    helpers = []
+    if not missing:
+        _drop_standby()
+    elif enabled():
+        folder = tempfile.mkdtemp(prefix="rtweekend-compile-")
+        try:
+            with claims.Session(folder) as session:
+                _share(session, missing)
+                SHARE.update(session.claimed_by())
+        finally:
+            shutil.rmtree(folder, ignore_errors=True)
+    for d, sig in sigs:
+        d.compile(sig)          # what the helpers compiled, from the cache; or here
+
+
+def _share(session, missing):
+    """The first missing kernel here; each helper first compiles its share of
+    the others, then helps with the first (claims.py)."""
+    (first, first_sig), others = missing[0], missing[1:]
+    count = max(1, min(cpus() - 1, len(others)))
+    helpers = [Helper(session, others[i::count], (first, first_sig), _standby())
+               for i in range(count)]
     try:
-        if len(missing) > 1 and enabled():
-            helpers = [Helper(d, sig) for d, sig in missing[1:]]
-            missing = missing[:1]
-        for d, sig in missing:
-            d.compile(sig)
+        first.compile(first_sig)
         for helper in helpers:
             helper.wait()
     finally:
         for helper in helpers:
             helper.stop()
-    for d, sig in sigs:
-        d.compile(sig)          # what the helpers compiled, from the cache
 
 
 class Helper:
-    """A process compiling `dispatcher` for `sig` into the cache."""
+    """A process compiling kernels `own` into the cache, then helping with
+    `assist` (a kernel this process compiles: claims.py) until stopped."""
 
-    def __init__(self, dispatcher, sig):
-        fn = dispatcher.py_func
-        self.what = f"{fn.__module__}.{fn.__qualname__}"
-        env = dict(os.environ, PYTHONPATH=os.pathsep.join(
-            [str(disk_cache.PACKAGE.parent), os.environ.get("PYTHONPATH", "")]).rstrip(os.pathsep))
-        # stderr to a file: a pipe nobody reads could fill and stall the helper.
-        self.errors = tempfile.TemporaryFile()
-        self.process = subprocess.Popen(
-            [sys.executable, "-c", f"from {disk_cache.PACKAGE.name}.kernel.compile_workers "
-             "import _serve; _serve()"],
-            stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=self.errors, env=env)
+    def __init__(self, session, own, assist, started=None):
+        self.session = session
+        self.keys = [session.key(d, sig) for d, sig in own]
+        self.what = ", ".join(_name(d) for d, _ in own)
+        self.process, self.errors = started or _spawn()
+        for key in self.keys:             # its kernels are its own from the start
+            session.claim_for(key, self.process.pid)
         with _LOCK:
             _HELPERS.add(self)
-            STARTED[0] += 1
-        job = pickle.dumps((fn.__module__, fn.__name__, sig))
+        job = pickle.dumps((session.folder, [_job(d, sig) for d, sig in own],
+                            _job(*assist)))
         self.process.stdin.write(len(job).to_bytes(8, "little") + job)
         self.process.stdin.flush()
 
     def wait(self):
-        """Until the helper has compiled its kernel (counted as compiling)."""
-        with compile_clock.waiting():
-            while self.process.poll() is None:
-                try:
-                    self.process.wait(POLL)
-                except subprocess.TimeoutExpired:
-                    pass
-        if self.process.returncode == -9 or self.process.returncode == STOPPED:
-            raise Stopped(self.what)
-        if self.process.returncode != 0:
+        """Until the helper's own kernels are in the cache (counted as compiling);
+        CompileError if it could not compile one."""
+        for key in self.keys:
+            self.session.wait(key)
+        failed = self.session.failure()
+        if failed:
+            raise CompileError(f"compiling {self.what} in a helper process failed: {failed}")
+        if not all(self.session.is_done(key) for key in self.keys):     # it is gone
+            if self.process.poll() in (-9, STOPPED):
+                raise Stopped(self.what)
             self.errors.seek(0)
             lines = self.errors.read().decode(errors="replace").strip().splitlines()
             raise CompileError(f"compiling {self.what} in a helper process failed: "
-                               f"{lines[-1] if lines else f'exit {self.process.returncode}'}")
+                               f"{lines[-1] if lines else f'exit {self.process.poll()}'}")
 
     def stop(self):
         """End the helper now, if it is still running."""
@@ -148,11 +161,62 @@ class Helper:
                 pass
 
 
+def _spawn():
+    """A helper process: (Popen, its stderr file).  It imports the package, then
+    waits for its job on stdin."""
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(
+        [str(disk_cache.PACKAGE.parent), os.environ.get("PYTHONPATH", "")]).rstrip(os.pathsep))
+    # stderr to a file: a pipe nobody reads could fill and stall the helper.
+    errors = tempfile.TemporaryFile()
+    process = subprocess.Popen(
+        [sys.executable, "-c", f"from {disk_cache.PACKAGE.name}.kernel.compile_workers "
+         "import _serve; _serve()"],
+        stdin=subprocess.PIPE, stdout=subprocess.DEVNULL, stderr=errors, env=env)
+    with _LOCK:
+        STARTED[0] += 1
+    return process, errors
+
+
+_STANDBY = []        # a helper started ahead of the compile (prestart), not yet used
+
+
+def prestart():
+    """Start a helper now, so that it has imported the package by the time the
+    render compiles (while this process reads and packs the scene); the next
+    compile_all gives it its job, or stops it when nothing is missing."""
+    if enabled() and not _STANDBY:
+        _STANDBY.append(_spawn())
+
+
+def _standby():
+    """The helper prestart() started, or None."""
+    return _STANDBY.pop() if _STANDBY else None
+
+
+def _drop_standby():
+    standby = _standby()
+    if standby is not None:
+        process, errors = standby
+        process.kill()
+        process.wait()
+        process.stdin.close()
+        errors.close()
+
+
+def _name(dispatcher):
+    return f"{dispatcher.py_func.__module__}.{dispatcher.py_func.__qualname__}"
+
+
+def _job(dispatcher, sig):
+    return dispatcher.py_func.__module__, dispatcher.py_func.__name__, sig
+
+
 STOPPED = 3          # a helper's exit status when its parent went away
 
 
 def stop_all():
     """End every helper of this process now (Ctrl-C, exit)."""
+    _drop_standby()
     with _LOCK:
         helpers = list(_HELPERS)
     for helper in helpers:
@@ -163,19 +227,34 @@ atexit.register(stop_all)
 
 
 def _serve():
-    """In a helper: read the job, compile it, leave (os._exit: no teardown)."""
+    """In a helper: read the job, compile its kernels, help with the parent's,
+    leave (os._exit: no teardown)."""
     stdin = sys.stdin.buffer
-    size = int.from_bytes(stdin.read(8), "little")
-    module, name, sig = pickle.loads(stdin.read(size))
+    from importlib import import_module
+    from .. import path  # noqa: F401  (the kernels' modules, imported while waiting)
+    header = stdin.read(8)
+    if len(header) < 8:
+        os._exit(STOPPED)         # stdin ended: the parent needed no helper after all
+    size = int.from_bytes(header, "little")
+    folder, own, (module, name, sig) = pickle.loads(stdin.read(size))
 
     def watch_parent():
         stdin.read()              # returns at the end of stdin: the parent is gone
         os._exit(STOPPED)
     threading.Thread(target=watch_parent, daemon=True).start()
-    from importlib import import_module
     from .jit import collector_paused
-    dispatcher = getattr(import_module(module), name)
-    with collector_paused():
-        dispatcher.compile(sig)
+    with collector_paused(), claims.Session(folder) as session:
+        for m, n, s in own:
+            dispatcher = getattr(import_module(m), n)
+            key = session.key(dispatcher, s)
+            session.mine.add(key)
+            try:
+                dispatcher.compile(s)
+            except Exception as e:
+                session.fail(f"{type(e).__name__}: {' '.join(str(e).split())}"[:500])
+                raise
+            finally:
+                session.done(key)
+        claims.return_type(getattr(import_module(module), name), sig)
     sys.stderr.flush()
     os._exit(0)

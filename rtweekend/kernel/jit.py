@@ -10,12 +10,15 @@ from pathlib import Path
 
 from numba import njit, types
 from numba.core.errors import TypingError
+from numba.core.typing import signature
+from numba.core.typing.templates import make_concrete_template
 from numba.core.registry import CPUDispatcher
 from numba.extending import overload
 from numba.np.numpy_support import as_dtype
 
+from . import claims
 from .disk_cache import PackageCache
-from .step_library import StepCache, StepCompiler
+from .step_library import KernelCompiler, StepCache, StepCompiler
 
 # fastmath without 'nnan' and 'ninf': those let LLVM assume no NaN/inf exists,
 # which silently breaks `t_max = inf` and the NaN checks that drop bad samples.
@@ -80,7 +83,7 @@ class _InlinedDispatcher(CPUDispatcher):
                 function = module.get_function(cres.fndesc.llvm_func_name)
             except NameError:
                 continue
-            function.add_function_attribute("alwaysinline")
+            function.add_function_attribute(self.__dict__.get("_inline", "alwaysinline"))
         super().add_overload(cres)
 
     def get_call_template(self, args, kws):
@@ -93,10 +96,57 @@ class _InlinedDispatcher(CPUDispatcher):
         plain = tuple(types.unliteral(a) for a in args)
         if plain != tuple(args) and not kws:
             try:
-                return super().get_call_template(plain, kws)
+                return self._call_template(plain, kws)
             except TypingError:
                 pass
+        return self._call_template(args, kws)
+
+    def _call_template(self, args, kws):
+        """Numba's, except in a compile shared with a helper process
+        (kernel/claims.py): a step the helper has claimed is only typed here,
+        and its code taken from the cache when a caller is lowered
+        (get_overload)."""
+        session = claims.current()
+        if session is not None and not kws:
+            pysig, args = self._compiler.fold_argument_types(args, kws)
+            args = tuple(args)
+            if args not in self.overloads:
+                key = session.key(self, args)
+                if not session.claim(key) and not session.is_done(key):
+                    typed = self.__dict__.setdefault("_typed", {})
+                    if args not in typed:
+                        typed[args] = claims.return_type(self, args)
+                    template = make_concrete_template(
+                        f"CallTemplate({self.py_func.__name__})", key=self.py_func.__name__,
+                        signatures=[signature(typed[args], *args)])
+                    return template, pysig, args, {}
         return super().get_call_template(args, kws)
+
+    def compile(self, sig):
+        """Numba's, marking a claimed step done (in the cache) for the other
+        process, or waiting for it to be where the other process claimed it."""
+        session = claims.current()
+        if session is None:
+            return super().compile(sig)
+        args = claims.normalized(sig)
+        if args in self.overloads:
+            return super().compile(sig)
+        key = session.key(self, args)
+        if session.claim(key):
+            try:
+                return super().compile(sig)
+            finally:
+                session.done(key)
+        session.wait(key)
+        return super().compile(sig)       # from the cache (or here, if it failed there)
+
+    def get_overload(self, sig):
+        """A step only typed here (its code is the helper's): wait for it in
+        the cache, and load it, when a caller is lowered."""
+        args = claims.normalized(sig)
+        if args not in self.overloads and args in self.__dict__.get("_typed", {}):
+            self.compile(args)
+        return super().get_overload(sig)
 
     def __call__(self, *args):
         """From Python (tests, benchmarks): through a small compiled function that
@@ -111,7 +161,7 @@ class _InlinedDispatcher(CPUDispatcher):
         return entries[len(args)](*args)
 
 
-def jit_step(fn):
+def jit_step(fn=None, *, inline=True):
     """A step of a kernel (a bounce, a shape's distance, a material's sample):
     compiled once for each signature on its own, then inlined by LLVM into every
     caller.
@@ -132,10 +182,18 @@ def jit_step(fn):
     attribute is set on the function after Numba compiles it and before any
     caller links it in (a Numba internal: tests/test_cache.py checks that
     kernels hold no call to a step).
+
+    inline=False: the step is called, not inlined -- one copy of it in a
+    kernel that calls it from several places.  For a large step whose call
+    costs nothing next to its work (bdpt's visibility test, its subpaths'
+    walk): each inlined copy is seconds of compile.
     """
+    if fn is None:
+        return lambda fn: jit_step(fn, inline=inline)
     dispatcher = _InlinedDispatcher(py_func=fn, locals={}, targetoptions=_STEP_OPTIONS,
                                     pipeline_class=StepCompiler)
     dispatcher._cache = StepCache(fn)
+    dispatcher._inline = "alwaysinline" if inline else "noinline"
     return dispatcher
 
 
@@ -145,7 +203,7 @@ def jit_kernel(fn):
 
     nogil: it releases the GIL, so threads render rows side by side, and the
     main thread stays awake to Ctrl-C while it runs (kernel/calls.py)."""
-    return _cached(njit(nogil=True, **_OPTIONS)(fn))
+    return _cached(njit(nogil=True, pipeline_class=KernelCompiler, **_OPTIONS)(fn))
 
 
 def jit_parallel(fn):

@@ -58,7 +58,7 @@ def bounce(bsdf, wo, smp):
     return materials.sample(bsdf, wo, smp)
 
 
-@jit_step
+@jit_step(inline=False)
 def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, start,
          adjoint, textures, media, time, smp):
     """Extend the subpath whose last vertex is n - 1 (at o, leaving along d with
