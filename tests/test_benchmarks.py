@@ -244,7 +244,7 @@ def test_compile_benchmark_quick(tmp_path):
     assert r.returncode == 0, r.stderr[-2000:]
     lines = r.stdout.splitlines()
     assert lines[1].startswith("cornell_box") and lines[2].startswith("cgfs")
-    assert "sum of the cold compiles" in lines[-1]
+    assert "sum of the cold starts" in lines[-1]
 
 
 def test_strategies_benchmark_quick(tmp_path):

@@ -161,7 +161,7 @@ class _InlinedDispatcher(CPUDispatcher):
         return entries[len(args)](*args)
 
 
-def jit_step(fn=None, *, inline=True):
+def jit_step(fn=None, *, inline=True, exact=False):
     """A step of a kernel (a bounce, a shape's distance, a material's sample):
     compiled once for each signature on its own, then inlined by LLVM into every
     caller.
@@ -183,14 +183,18 @@ def jit_step(fn=None, *, inline=True):
     caller links it in (a Numba internal: tests/test_cache.py checks that
     kernels hold no call to a step).
 
+    exact=True: without the fastmath flags, for a step of code that must
+    compute as NumPy does (the BVH builder's, bvh_build.py).
+
     inline=False: the step is called, not inlined -- one copy of it in a
     kernel that calls it from several places.  For a large step whose call
     costs nothing next to its work (bdpt's visibility test, its subpaths'
     walk): each inlined copy is seconds of compile.
     """
     if fn is None:
-        return lambda fn: jit_step(fn, inline=inline)
-    dispatcher = _InlinedDispatcher(py_func=fn, locals={}, targetoptions=_STEP_OPTIONS,
+        return lambda fn: jit_step(fn, inline=inline, exact=exact)
+    options = dict(_STEP_OPTIONS, fastmath=False) if exact else _STEP_OPTIONS
+    dispatcher = _InlinedDispatcher(py_func=fn, locals={}, targetoptions=options,
                                     pipeline_class=StepCompiler)
     dispatcher._cache = StepCache(fn)
     dispatcher._inline = "alwaysinline" if inline else "noinline"
@@ -215,13 +219,14 @@ def jit_parallel(fn):
     return _cached(njit(parallel=True, nogil=True, **_OPTIONS)(fn))
 
 
-def jit_host(fn=None, *, parallel=False):
+def jit_host(fn=None, *, nogil=False):
     """A compiled function called from Python that is no render kernel: the
     scene's packing, the BVH build, the OBJ reader.  Numba's defaults (no
-    fastmath: nothing here is in the image's hot path), the package's cache."""
+    fastmath: nothing here is in the image's hot path), the package's cache;
+    nogil for one that threads of ours run side by side (kernel/rows.py)."""
     if fn is None:
-        return lambda fn: jit_host(fn, parallel=parallel)
-    return _cached(njit(parallel=parallel)(fn))
+        return lambda fn: jit_host(fn, nogil=nogil)
+    return _cached(njit(nogil=nogil)(fn))
 
 
 def like(x, value):

@@ -18,11 +18,13 @@ The arithmetic is NumPy's, step for step (no fastmath: a reciprocal in place of
 a division would move objects between bins), so the tree is the one the NumPy
 version of this algorithm builds (tests/test_hittables.py compares them).
 """
+import threading
+
 import numba
 import numpy as np
-from numba import prange
 
-from ..kernel.jit import jit_host
+from ..kernel.jit import jit_host, jit_step
+from ..kernel.rows import on_threads
 from . import shapes
 from .layout import OBJ_KIND, TRIANGLE
 from .shapes import triangle
@@ -50,7 +52,7 @@ def object_bounds(obj_i, obj_f):
     return out
 
 
-@jit_host
+@jit_step(exact=True)
 def _pad(out, k):
     """Widen box k by 1e-9 of its largest coordinate (at least 1e-9)."""
     big = 1.0
@@ -81,13 +83,13 @@ def build_bvh(obj_i, obj_f, ids=None):
     return _build(bounds, ids.astype(np.int64).copy())
 
 
-@jit_host
+@jit_step(exact=True)
 def _area(lx, ly, lz, hx, hy, hz):
     ex, ey, ez = max(hx - lx, 0.0), max(hy - ly, 0.0), max(hz - lz, 0.0)
     return 2.0 * (ex * ey + ey * ez + ez * ex)
 
 
-@jit_host
+@jit_step(exact=True)
 def _bins(bounds, centroids, ids, start, end, lo_c, extent, bin_of, count, blo, bhi):
     """Each object's bin on every axis of non-zero extent (bin_of[axis, j -
     start]), and the bins' counts and boxes (count, blo, bhi [axis, bin]): one
@@ -108,7 +110,7 @@ def _bins(bounds, centroids, ids, start, end, lo_c, extent, bin_of, count, blo, 
                 bhi[axis, i, c] = max(bhi[axis, i, c], bounds[k, 3 + c])
 
 
-@jit_host
+@jit_step(exact=True)
 def _costs(count, blo, bhi, parent, cost):
     """cost[s]: the SAH cost of splitting after bin s, s < BINS - 1 (a row of
     the arrays _bins fills)."""
@@ -136,7 +138,7 @@ def _costs(count, blo, bhi, parent, cost):
             cost[i] = TRAVERSAL_COST + (left_n * cost[i] + right_n * right_a) / parent
 
 
-@jit_host
+@jit_step(exact=True)
 def _split(bounds, centroids, ids, start, end, goes_left, box, bin_of, count, blo, bhi,
            cost, c3):
     """Fill goes_left[:n] for the cheapest binned split of ids[start:end];
@@ -181,10 +183,35 @@ def _median_split(centroids, ids, start, end, goes_left):
     keys = np.empty(n)
     for j in range(n):
         keys[j] = centroids[ids[start + j], axis]
-    order = np.argsort(keys, kind="mergesort")
+    order = _stable_order(keys)
     goes_left[:n] = False
     for j in range(n // 2):
         goes_left[order[j]] = True
+
+
+@jit_host
+def _stable_order(keys):
+    """The order that sorts keys, equal keys in their order (NumPy's argsort
+    with kind="mergesort"): a bottom-up merge sort, written out because
+    Numba's took two seconds to compile."""
+    n = keys.shape[0]
+    order, other = np.arange(n), np.empty(n, dtype=np.int64)
+    width = 1
+    while width < n:
+        for lo in range(0, n, 2 * width):
+            mid, hi = min(lo + width, n), min(lo + 2 * width, n)
+            a, b = lo, mid
+            for k in range(lo, hi):
+                # The left run's element first unless the right one is smaller.
+                if a < mid and (b >= hi or keys[order[a]] <= keys[order[b]]):
+                    other[k] = order[a]
+                    a += 1
+                else:
+                    other[k] = order[b]
+                    b += 1
+        order, other = other, order
+        width *= 2
+    return order
 
 
 def _build(bounds, ids, task=None):
@@ -195,10 +222,43 @@ def _build(bounds, ids, task=None):
     back in depth-first order, so the tree is the same, bit for bit, for any
     `task` and any number of threads."""
     n = ids.shape[0]
+    threads = numba.get_num_threads()
     if task is None:
-        task = max(n // (4 * numba.get_num_threads()), TASK_MIN)
+        task = max(n // (4 * threads), TASK_MIN)
     centroids = 0.5 * (bounds[:, :3] + bounds[:, 3:])
-    return _build_parallel(bounds, centroids, ids, task)
+    # The top: nodes of more than `task` objects; the rest are tasks.  (Rows
+    # made with np.empty take memory only where they are written.)
+    rows = max(2 * n - 1, 1)
+    tbox, tnode = np.empty((rows, 6)), np.empty((rows, 3), dtype=np.int64)
+    tright = np.empty(rows, dtype=np.int64)
+    tasks = np.empty((max(n, 1), 4), dtype=np.int64)
+    top_rows, made = _grow(bounds, centroids, ids, 0, n, 0, tbox, tnode, tright, task, tasks)
+    tasks = tasks[:made]
+    # Each task's subtree into its own rows of sbox, snode, sright (at most
+    # 2m - 1 for m objects), on our threads (kernel/rows.py; not a Numba
+    # prange, whose parallel compile took seconds), each taking the next task
+    # left: the threads share the work however unequal the tasks.
+    first = np.concatenate([[0], np.cumsum(2 * (tasks[:, 1] - tasks[:, 0]) - 1)])
+    rows = max(int(first[-1]), 1)
+    sbox, snode = np.empty((rows, 6)), np.empty((rows, 3), dtype=np.int64)
+    sright = np.empty(rows, dtype=np.int64)
+    used = np.zeros(made, dtype=np.int64)
+    queue = iter(range(made))
+    lock = threading.Lock()
+    none = tasks[:0]
+
+    def subtrees(_):
+        while True:
+            with lock:
+                t = next(queue, None)
+            if t is None:
+                return
+            a, b = first[t], first[t + 1]
+            used[t] = _grow(bounds, centroids, ids, tasks[t, 0], tasks[t, 1], tasks[t, 2],
+                            sbox[a:b], snode[a:b], sright[a:b], 0, none)[0]
+    on_threads(subtrees, np.arange(max(1, min(threads, made))), threads)
+    return _assemble(tbox, tnode, tright, top_rows, tasks, first, sbox, snode, sright, used,
+                     ids)
 
 
 @jit_host
@@ -212,7 +272,7 @@ def _scratch(n):
             np.empty((3, 3)), np.empty((n + 1, 4), dtype=np.int64))
 
 
-@jit_host
+@jit_host(nogil=True)
 def _grow(bounds, centroids, ids, start0, end0, depth0, box, node, right, task, tasks):
     """Build the subtree of ids[start0:end0] (at depth0) into rows 0, 1, ...
     of box, node, right, depth first, left first; a node below the root with
@@ -222,7 +282,9 @@ def _grow(bounds, centroids, ids, start0, end0, depth0, box, node, right, task, 
     goes_left, scratch, bin_of, count_b, blo, bhi, cost, c3, stack = _scratch(end0 - start0)
     # Depth first, left first: a stack of (start, end, the parent waiting for
     # this node's number as its right child; -1 for a left child or the root).
-    stack[0] = (start0, end0, -1, depth0)
+    # (Rows written element by element: a row assigned at once compiled the
+    # shape checks' error messages, seconds of string code.)
+    stack[0, 0], stack[0, 1], stack[0, 2], stack[0, 3] = start0, end0, -1, depth0
     top, count, made = 1, 0, 0
     while top > 0:
         top -= 1
@@ -234,7 +296,7 @@ def _grow(bounds, centroids, ids, start0, end0, depth0, box, node, right, task, 
             right[parent] = i
         m = end - start
         if task > 0 and i > 0 and m <= task:
-            tasks[made] = (start, end, depth, i)
+            tasks[made, 0], tasks[made, 1], tasks[made, 2], tasks[made, 3] = start, end, depth, i
             made += 1
             continue
         lx, ly, lz, hx, hy, hz = np.inf, np.inf, np.inf, -np.inf, -np.inf, -np.inf
@@ -263,38 +325,32 @@ def _grow(bounds, centroids, ids, start0, end0, depth0, box, node, right, task, 
             else:
                 scratch[b] = ids[start + j]
                 b += 1
-        ids[a:end] = scratch[:b]
-        stack[top] = (a, end, i, depth + 1)         # the right child, after the left subtree
-        stack[top + 1] = (start, a, -1, depth + 1)  # the left child: next
+        for j in range(b):
+            ids[a + j] = scratch[j]
+        # The right child, after the left subtree; then the left child, next.
+        stack[top, 0], stack[top, 1], stack[top, 2], stack[top, 3] = a, end, i, depth + 1
+        stack[top + 1, 0], stack[top + 1, 1] = start, a
+        stack[top + 1, 2], stack[top + 1, 3] = -1, depth + 1
         top += 2
     return count, made
 
 
-@jit_host(parallel=True)
-def _build_parallel(bounds, centroids, ids, task):
-    n = ids.shape[0]
-    rows = max(2 * n - 1, 1)
-    # The top: nodes of more than `task` objects; the rest are tasks.  (Rows
-    # made with np.empty take memory only where they are written.)
-    tbox, tnode = np.empty((rows, 6)), np.empty((rows, 3), dtype=np.int64)
-    tright = np.empty(rows, dtype=np.int64)
-    tasks = np.empty((max(n, 1), 4), dtype=np.int64)
-    top_rows, made = _grow(bounds, centroids, ids, 0, n, 0, tbox, tnode, tright, task, tasks)
-    # Each task's subtree into its own rows of sbox, snode, sright (at most
-    # 2m - 1 for m objects), on the threads.
-    first = np.zeros(made + 1, dtype=np.int64)
+@jit_step(exact=True)
+def _copy_row(box, node, i, from_box, from_node, j):
+    for c in range(6):
+        box[i, c] = from_box[j, c]
+    for c in range(3):
+        node[i, c] = from_node[j, c]
+
+
+@jit_host
+def _assemble(tbox, tnode, tright, top_rows, tasks, first, sbox, snode, sright, used, ids):
+    """The tree put together, depth first: each top row, a task's subtree where
+    its row is; then the miss links."""
+    made = tasks.shape[0]
+    total = top_rows - made
     for t in range(made):
-        first[t + 1] = first[t] + 2 * (tasks[t, 1] - tasks[t, 0]) - 1
-    sbox, snode = np.empty((max(first[made], 1), 6)), np.empty((max(first[made], 1), 3),
-                                                                 dtype=np.int64)
-    sright = np.empty(max(first[made], 1), dtype=np.int64)
-    used = np.zeros(made, dtype=np.int64)
-    for t in prange(made):
-        a, b = first[t], first[t + 1]
-        used[t], _ = _grow(bounds, centroids, ids, tasks[t, 0], tasks[t, 1], tasks[t, 2],
-                           sbox[a:b], snode[a:b], sright[a:b], 0, tasks[t:t])
-    # Put together, depth first: each top row, a task's subtree where its row is.
-    total = top_rows - made + used.sum()
+        total += used[t]
     box, node = np.empty((total, 6)), np.zeros((total, 3), dtype=np.int64)
     right = np.full(total, -1, dtype=np.int64)
     final = np.empty(top_rows, dtype=np.int64)      # a top row's final number
@@ -306,11 +362,11 @@ def _build_parallel(bounds, centroids, ids, task):
         final[i] = at
         t = task_of[i]
         if t < 0:
-            box[at], node[at] = tbox[i], tnode[i]
+            _copy_row(box, node, at, tbox, tnode, i)
             at += 1
             continue
         for r in range(used[t]):
-            box[at + r], node[at + r] = sbox[first[t] + r], snode[first[t] + r]
+            _copy_row(box, node, at + r, sbox, snode, first[t] + r)
             if sright[first[t] + r] >= 0:
                 right[at + r] = at + sright[first[t] + r]
         at += used[t]

@@ -147,9 +147,12 @@ def turbulence(gradients, perm, q, p):
     return abs(accum)
 
 
-@jit_step
+@jit_step(inline=False)
 def noise_value(gradients, perm, q, style, scale, p):
-    """The grey level of a noise texture at p."""
+    """The grey level of a noise texture at p.  Called, not inlined: it holds
+    fifteen copies of noise (two turbulences of seven octaves, and one), and a
+    kernel looks textures up in several places (a mixed scene's bdpt kernel
+    held ninety copies); the call costs nothing next to the octaves."""
     if style == MARBLE:
         return 0.5 * (1.0 + math.sin(scale * p[2] + 10.0 * turbulence(gradients, perm, q, p)))
     sp = (scale * p[0], scale * p[1], scale * p[2])
