@@ -11,6 +11,7 @@ from .classic.render import render_classic
 from .distributed import client as dask_driver
 from .distributed.cluster import check_render
 from .io.progress import Spinner
+from .kernel.calls import call_awake
 from .kernel.compile_workers import prestart
 from .local import render_locally
 from .options import RenderOptions
@@ -82,7 +83,9 @@ def render(scene: Scene, spp: int | None = None, *, seed: int = 0,
     if client is None:
         prestart()          # a helper process that can compile beside this one
     with Spinner(progress is True):         # from the first compile: packing, the BVH
-        renderer = Renderer(scene, options)
+        # Packing compiles: in the worker thread, this one awake to Ctrl-C
+        # (kernel/calls.py), which Numba's compiler would not always pass on.
+        renderer = call_awake(lambda: Renderer(scene, options))
         if spp is None and time is None:
             spp = scene.spp
         if client is not None:

@@ -198,7 +198,9 @@ def _what_was_interrupted(error):
     """"Ctrl-C while compiling" when Numba was compiling (reading a mesh or
     packing the scene compiles too), else "interrupted"."""
     frames = traceback.extract_tb(error.__traceback__)
-    compiling = any("/numba/" in frame.filename.replace("\\", "/") for frame in frames)
+    clock = sys.modules.get(f"{__package__}.kernel.compile_clock")
+    compiling = (any("/numba/" in frame.filename.replace("\\", "/") for frame in frames)
+                 or (clock is not None and clock.running() is not None))
     return "Ctrl-C while compiling" if compiling else "interrupted"
 
 
@@ -251,7 +253,9 @@ def _render(args):
     if not (args.scheduler or args.workers):
         prestart()      # a helper process: it can compile beside this one (compile_workers)
     with Spinner(not args.quiet):       # a mesh file's reader may compile first
-        scene = load_scene(args.scene)
+        # In the worker thread, this one awake (kernel/calls.py): a Ctrl-C that
+        # lands inside Numba's compiler can be lost or leave it half done.
+        scene = call_awake(lambda: load_scene(args.scene))
     output = Path(args.output) if args.output else Path(f"{scene.name}.png")
     check_output_path(output)            # before spending minutes on the render
     layered = output.suffix.lower() in (".npy", ".exr")

@@ -134,9 +134,10 @@ def test_ctrl_c_while_compiling_stops_the_helpers_too(tmp_path):
 
 
 # The command on a scene read from an OBJ file, its compiles watched: each
-# compile that starts with no other running says whether a spinner was up.
+# compile that starts with no other running says whether a spinner was up, and
+# whether it runs in the main thread.
 SPINNER_UP = """
-import sys
+import sys, threading
 from numba.core import event
 from rtweekend.io.progress import Spinner
 from rtweekend import cli
@@ -146,7 +147,8 @@ class Watch(event.Listener):
     def on_start(self, ev):
         if Watch.depth == 0:
             name = ev.data["dispatcher"].py_func.__module__
-            print(name, Spinner._active, flush=True)
+            main = threading.current_thread() is threading.main_thread()
+            print(name, Spinner._active, main, flush=True)
             if name.endswith("integrators.path"):      # the render kernel: enough
                 sys.stdout.flush()
                 import os; os._exit(0)
@@ -183,11 +185,15 @@ def test_the_spinner_is_up_before_the_first_compile(tmp_path):
                          capture_output=True, text=True, timeout=600)
     assert run.returncode == 0, run.stderr[-2000:]
     lines = [line.split() for line in run.stdout.splitlines()]
-    modules = [module for module, _ in lines]
+    modules = [module for module, _, _ in lines]
     # Reading the mesh, packing its triangles, then the kernel: each inside a spinner.
     assert modules == ["rtweekend.io.obj", "rtweekend.path.shapes.triangle",
                        "rtweekend.path.integrators.path"]
-    assert all(int(active) >= 1 for _, active in lines), lines
+    assert all(int(active) >= 1 for _, active, _ in lines), lines
+    # None in the main thread, which waits awake to Ctrl-C (kernel/calls.py): a
+    # Ctrl-C landing inside Numba's compiler was at times lost, or left it half
+    # done ("no compiled object yet") and the command ended in a traceback.
+    assert all(main == "False" for _, _, main in lines), lines
 
 
 def test_the_spinner_shows_only_while_something_compiles(monkeypatch):
