@@ -221,3 +221,45 @@ def test_compile_seconds_count_the_compiles_of_packing_the_scene(monkeypatch):
     r = rt.Renderer(rt.load_scene("cornell_box"), width=8, height=8, sampling="mixture")
     assert r.compile_seconds >= 0.3
     assert r.compile() >= 0.3                  # and the kernel's, compiled or loaded
+
+
+# Packs `weekend` (a BVH) with a standby helper, as the command does, and lists
+# the functions compiled in this process; prints a hash of the packed arrays.
+PACK_WITH_HELPER = """
+import hashlib, sys
+import numpy as np
+from numba.core import event
+import rtweekend as rt
+from rtweekend.kernel import compile_workers
+from rtweekend.path.pack import pack_scene
+
+compiled = []
+class Watch(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__name__)
+    def on_end(self, ev):
+        pass
+event.register("numba:compile", Watch())
+compile_workers.prestart()
+arrays = pack_scene(rt.load_scene("weekend"))
+h = hashlib.sha256()
+for a in (*arrays.wide, arrays.bvh_prims):
+    h.update(np.ascontiguousarray(a).tobytes())
+print(h.hexdigest(), " ".join(sorted(set(compiled))))
+"""
+
+
+@pytest.mark.skipif(not compile_workers.enabled(), reason="needs 2 CPUs and file locks")
+def test_the_helper_compiles_the_wide_bvh_while_this_process_compiles_the_builder(tmp_path):
+    def pack(name, helpers):
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / name),
+                   RTWEEKEND_COMPILE_HELPERS="1" if helpers else "0")
+        run = subprocess.run([sys.executable, "-c", PACK_WITH_HELPER], env=env,
+                             capture_output=True, text=True, timeout=600)
+        assert run.returncode == 0, run.stderr[-2000:]
+        digest, *compiled = run.stdout.split()
+        return digest, set(compiled)
+    alone, beside = pack("alone", False), pack("beside", True)
+    assert {"_grow", "_collapse", "_blocks"} <= alone[1]
+    assert "_grow" in beside[1] and not {"_collapse", "_count_blocks", "_blocks"} & beside[1]
+    assert beside[0] == alone[0]

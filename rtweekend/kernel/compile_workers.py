@@ -14,6 +14,11 @@ open: a helper whose parent is gone -- interrupted, killed -- reads the end of
 its stdin and leaves at once.  stop_all() ends every helper now (Ctrl-C
 during a compile: kernel/calls.py, local.py).  A helper that fails is one
 clear error naming what it compiled.
+
+The standby helper (prestart) can also be asked to compile ahead
+(compile_ahead): to run a function that compiles into the cache what this
+process will need after what it is compiling now -- the BVH's 4-wide
+collapse while this process compiles the builder -- then to wait for its job.
 """
 import atexit
 import os
@@ -23,10 +28,11 @@ import subprocess
 import sys
 import tempfile
 import threading
+import time
 
 import numba
 
-from . import claims, disk_cache
+from . import claims, compile_clock, disk_cache
 
 POLL = 0.05          # seconds between looks at a helper
 STARTED = [0]        # helpers this process has started (tests, benchmarks)
@@ -126,10 +132,8 @@ class Helper:
             session.claim_for(key, self.process.pid)
         with _LOCK:
             _HELPERS.add(self)
-        job = pickle.dumps((session.folder, [_job(d, sig) for d, sig in own],
-                            _job(*assist)))
-        self.process.stdin.write(len(job).to_bytes(8, "little") + job)
-        self.process.stdin.flush()
+        _send(self.process, ("job", session.folder, [_job(d, sig) for d, sig in own],
+                             _job(*assist)))
 
     def wait(self):
         """Until the helper's own kernels are in the cache (counted as compiling);
@@ -203,6 +207,46 @@ def _drop_standby():
         errors.close()
 
 
+def _send(process, message):
+    data = pickle.dumps(message)
+    process.stdin.write(len(data).to_bytes(8, "little") + data)
+    process.stdin.flush()
+
+
+class Ahead:
+    """A compile_ahead in the standby helper: wait() until it is done."""
+
+    def __init__(self, process, flag):
+        self.process, self.flag = process, flag
+
+    def wait(self):
+        """Until the helper has run it (counted as compiling); if the helper
+        is gone instead, this process compiles what it needs itself."""
+        with compile_clock.waiting():
+            while not os.path.exists(self.flag) and self.process.poll() is None:
+                time.sleep(POLL / 5)
+        try:
+            os.remove(self.flag)
+        except OSError:
+            pass
+
+
+def compile_ahead(fn):
+    """Have the standby helper call fn (a module-level function of this package
+    that compiles, or loads, what this process will need soon) while this
+    process compiles something else; then the helper waits for its job as
+    before.  An Ahead to wait() for, or None without a standby helper."""
+    if not _STANDBY:
+        return None
+    process, _ = _STANDBY[0]
+    flag = os.path.join(tempfile.gettempdir(), f"rtweekend-ahead-{os.getpid()}-{id(fn)}")
+    try:
+        _send(process, ("ahead", fn.__module__, fn.__name__, flag))
+    except OSError:                 # the helper is gone
+        return None
+    return Ahead(process, flag)
+
+
 def _name(dispatcher):
     return f"{dispatcher.py_func.__module__}.{dispatcher.py_func.__qualname__}"
 
@@ -227,22 +271,31 @@ atexit.register(stop_all)
 
 
 def _serve():
-    """In a helper: read the job, compile its kernels, help with the parent's,
-    leave (os._exit: no teardown)."""
-    stdin = sys.stdin.buffer
+    """In a helper: run what is asked ahead, read the job, compile its kernels,
+    help with the parent's, leave (os._exit: no teardown)."""
+    import queue
     from importlib import import_module
     from .. import path  # noqa: F401  (the kernels' modules, imported while waiting)
-    header = stdin.read(8)
-    if len(header) < 8:
-        os._exit(STOPPED)         # stdin ended: the parent needed no helper after all
-    size = int.from_bytes(header, "little")
-    folder, own, (module, name, sig) = pickle.loads(stdin.read(size))
+    messages = queue.SimpleQueue()
 
-    def watch_parent():
-        stdin.read()              # returns at the end of stdin: the parent is gone
-        os._exit(STOPPED)
-    threading.Thread(target=watch_parent, daemon=True).start()
+    def read():
+        stdin = sys.stdin.buffer
+        while len(header := stdin.read(8)) == 8:
+            messages.put(pickle.loads(stdin.read(int.from_bytes(header, "little"))))
+        os._exit(STOPPED)         # stdin ended: the parent is gone, or needs no helper
+    threading.Thread(target=read, daemon=True).start()
     from .jit import collector_paused
+    while (message := messages.get())[0] == "ahead":
+        _, module, name, flag = message
+        try:
+            with collector_paused():
+                getattr(import_module(module), name)()
+        except Exception as e:    # the parent compiles it itself; the job may still come
+            print(f"compiling ahead {module}.{name}: {type(e).__name__}: {e}", file=sys.stderr)
+        finally:
+            with open(flag, "w"):
+                pass
+    _, folder, own, (module, name, sig) = message
     with collector_paused(), claims.Session(folder) as session:
         for m, n, s in own:
             dispatcher = getattr(import_module(m), n)

@@ -7,6 +7,7 @@ world (rotate_y, then translate) and packed by its kind's module
 import numpy as np
 
 from ..errors import SceneError
+from ..kernel import compile_workers
 from ..scene.fields import SKY
 from . import bvh as hierarchy, mesh_light, wide_bvh
 from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS,
@@ -156,7 +157,13 @@ def pack_scene(scene, bvh=None):
         bvh = len(surfaces) >= hierarchy.BVH_MIN_OBJECTS
     wide = None
     if bvh and len(surfaces):
+        # A helper process, if one stands by, compiles the 4-wide collapse
+        # while this one compiles the builder (kernel/compile_workers.py).
+        ahead = None if wide_bvh.compiled() else compile_workers.compile_ahead(
+            wide_bvh.compile_ahead)
         tree = hierarchy.build_bvh(obj_i, obj_f, ids)
+        if ahead is not None:
+            ahead.wait()
         # Walked 4-wide: the binary nodes are not kept.
         wide = WideBVH(*wide_bvh.wide_tables(obj_i, obj_f, *tree, tris.count > 0))
         tree = (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), tree[2])

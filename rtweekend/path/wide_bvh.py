@@ -46,13 +46,13 @@ import math
 import numpy as np
 from numba import literal_unroll
 
-from ..kernel import simd
+from ..kernel import compile_workers, simd
 from ..kernel.jit import jit_host, jit_step, like
 from ..kernel.stack import stack_array
 from ..kernel.vec3 import reciprocal
 from . import shapes
 from .bvh_build import MEDIAN_FROM_DEPTH
-from .layout import NO_HIT, OBJ_KIND, TRIANGLE
+from .layout import NO_HIT, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, TRIANGLE
 from .shapes import triangle
 
 INF = math.inf
@@ -76,6 +76,28 @@ def wide_tables(obj_i, obj_f, bvh_box, bvh_node, bvh_prims, triangles=True):
     leaf_tri = np.full((blocks if triangles else 0, 9, WIDTH), np.nan)
     _blocks(obj_i, obj_f, bvh_prims, wide_child, leaf_prim, leaf_tri)
     return wide_box, wide_child, leaf_prim, leaf_tri
+
+
+def _one_leaf():
+    """(obj_i, obj_f, bvh_box, bvh_node, bvh_prims) of one object in one leaf,
+    typed as pack_scene's."""
+    return (np.zeros((1, OBJ_INTS), dtype=np.int64), np.zeros((1, OBJ_FLOATS)),
+            np.zeros((1, 6)), np.array([[0, 1, 1]], dtype=np.int64),
+            np.zeros(1, dtype=np.int64))
+
+
+def compile_ahead():
+    """wide_tables' compiled functions, compiled (or loaded) for the types
+    pack_scene calls them with: what a helper process compiles while the
+    render's own compiles the binary tree's builder
+    (compile_workers.compile_ahead)."""
+    wide_tables(*_one_leaf())
+
+
+def compiled():
+    """Is the collapse compiled, in this process or in the cache (then loaded)?"""
+    _, _, box, node, _ = _one_leaf()
+    return compile_workers.loaded(_collapse, compile_workers.signature((box, node, MERGE)))
 
 
 @jit_host
