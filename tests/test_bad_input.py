@@ -462,3 +462,27 @@ def test_a_lights_list_without_emitters_is_warned_about_and_renders(tmp_path, ca
                    "list the emitters too"]
     with pytest.warns(rt.SceneWarning, match="names no emitter"):
         rt.Renderer(rt.load_scene(path), spp=1)
+
+
+@pytest.mark.parametrize("move, words", [
+    # `lights = [...]` written after [render]: TOML makes it render.lights.
+    (lambda t: t.replace('lights = ["lamp"]\n', "").replace("max_depth = 5\n",
+                                                             'max_depth = 5\nlights = ["lamp"]\n'),
+     "render: 'lights' is a top-level key, but it fell into [render]"),
+    (lambda t: t.replace('description = "a test scene"\n', "").replace(
+        'material = "glow"\n', 'material = "glow"\ndescription = "a lamp"\n'),
+     "(xz_rect 'lamp'): 'description' is a top-level key, but it fell into the [[objects]] "
+     "table objects[1]"),
+    (lambda t: t.replace("spp = 2\n", "").replace("height = 8\n", "height = 8\nspp = 2\n"),
+     "camera: 'spp' belongs in [render], but it fell into [camera]"),
+    (lambda t: t.replace("width = 8\n", "").replace("max_depth = 5\n",
+                                                    "max_depth = 5\nwidth = 8\n"),
+     "render: 'width' belongs in [camera], but it fell into [render]"),
+])
+def test_a_key_under_the_wrong_header_says_where_it_belongs(tmp_path, capsys, scene_file,
+                                                            move, words):
+    path = scene_file(move(GOOD))
+    status, err = run_cli(tmp_path, capsys, "render", str(path), "-o", str(tmp_path / "x.png"))
+    assert status == 2 and len(err) == 1, err
+    assert words in err[0], err[0]
+    assert not (tmp_path / "x.png").exists()

@@ -115,10 +115,40 @@ def did_you_mean(word, candidates):
     return f" (did you mean '{close[0]}'?)" if close else ""
 
 
-def _unknown(key, allowed):
+def _unknown(key, allowed, where=None):
+    """The message for `key` in a table that has no such field; `where`, the
+    table's name, when the key may only have fallen into it (below)."""
+    misplaced = _misplaced(key, where)
+    if misplaced:
+        return misplaced
     allowed = list(dict.fromkeys(allowed))           # each name once
     return f"unknown field '{key}'{did_you_mean(key, allowed)}; expected one of: " \
         + ", ".join(allowed)
+
+
+def _table_name(where):
+    """How the document spells the table `where` (render, objects[2], materials.red)."""
+    if where.startswith("objects["):
+        return f"the [[objects]] table {where}"
+    return f"[{where}]"
+
+
+def _misplaced(key, where):
+    """A key of another table that fell into `where`: TOML gives every key after
+    a [table] header to that table, so `lights = [...]` written below [render]
+    is render.lights.  The hint says where it belongs, or ""."""
+    if not where:
+        return ""
+    if key in TOP_KEYS:
+        return (f"'{key}' is a top-level key, but it fell into {_table_name(where)}: TOML "
+                f"puts every key after a [table] header into that table; write '{key}' "
+                "above the first [table] header")
+    camera_keys = PATH_CAMERA_KEYS + CLASSIC_CAMERA_KEYS + SIZE_KEYS
+    for table, keys in (("render", RENDER_KEYS), ("camera", camera_keys)):
+        if key in keys and where != table:
+            return (f"'{key}' belongs in [{table}], but it fell into {_table_name(where)}; "
+                    f"write it under the [{table}] header")
+    return ""
 
 
 def _missing(key, given):
@@ -147,7 +177,7 @@ class _Loader:
     def check_keys(self, table, allowed, what):
         for key in table:
             if key not in allowed:
-                raise self.fail(what, _unknown(key, allowed))
+                raise self.fail(what, _unknown(key, allowed, what))
 
     def scene(self, doc, name):
         self.check_keys(doc, TOP_KEYS, "")
@@ -295,7 +325,7 @@ class _Loader:
         allowed = [p.name for p in params]
         for key in args:
             if key not in allowed:
-                raise self.fail(what, _unknown(key, list(extra_keys) + allowed))
+                raise self.fail(what, _unknown(key, list(extra_keys) + allowed, what))
         for p in params:
             if p.default is inspect.Parameter.empty and p.name not in args:
                 raise self.fail(what, _missing(p.name, args))
