@@ -127,10 +127,15 @@ class RenderResult:
         if s.integrator == "classic":
             return f"{s.width}x{s.height}, classic ray tracer, {s.seconds:.2f} s"
         mean = float(self.image.mean())
-        rel = float(self.stderr[self.stderr < float("inf")].mean()) / mean if mean > 0 else 0.0
+        # A pixel's standard error needs two samples (two blocks of them, with
+        # splats): until then it is inf everywhere, and there is none to give.
+        known = self.stderr[np.isfinite(self.stderr)]
+        if known.size and mean > 0:
+            error = f"standard error {100 * float(known.mean()) / mean:.1f}% of the mean"
+        else:
+            error = "no standard error yet"
         return (f"{s.width}x{s.height}, {s.spp} spp, {s.sampling or 'path'}, {s.seconds:.2f} s, "
-                f"{s.samples_per_s / 1e6:.2f} M samples/s, standard error {100 * rel:.1f}% "
-                "of the mean")
+                f"{s.samples_per_s / 1e6:.2f} M samples/s, {error}")
 
     def _repr_png_(self):
         """The image of save_image(self, "x.png"), tonemap(self.image), as PNG

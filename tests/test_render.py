@@ -208,6 +208,25 @@ def test_a_preview_outside_a_notebook_is_one_line():
         r.show()
 
 
+def test_a_results_notebook_display_raises_no_warning():
+    # What a notebook cell shows (RenderResult._repr_html_, also each preview
+    # update): at 1 spp no pixel has a standard error yet (inf everywhere),
+    # which once gave "Mean of empty slice" and a divide warning, and "nan%".
+    import re
+    import warnings
+    scene = rt.load_scene("cornell_box")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        one = rt.render(scene, spp=1, width=8, height=8, progress=False)
+        html = one._repr_html_()
+        four = rt.render(scene, spp=4, width=8, height=8, progress=False)
+        caption = four.caption()
+    assert "no standard error yet" in html and "nan" not in html
+    rel = float(re.search(r"standard error ([0-9.]+)% of the mean", caption).group(1))
+    known = four.stderr[np.isfinite(four.stderr)]
+    assert rel == pytest.approx(100 * known.mean() / four.image.mean(), abs=0.05)
+
+
 def test_every_public_name_is_documented_and_dir_shows_only_them():
     for name in rt.__all__:
         assert (getattr(rt, name).__doc__ or "").strip(), f"rt.{name} has no docstring"
