@@ -78,3 +78,35 @@ def test_links_in_readme_and_docs_point_at_files():
         for target in re.findall(r"\]\(([^)#]+?)(?:#[^)]*)?\)", md.read_text()):
             if not target.startswith("http"):
                 assert (md.parent / target).exists(), f"{md.name}: {target}"
+
+
+def _sentences(text):
+    return re.split(r"(?<=[.!?])\s+(?=[A-Z`*(])", " ".join(text.split()))
+
+
+def test_every_speed_figure_in_the_readme_says_which_estimator_and_what_machine():
+    # "2.3 M samples/s" alone reads as the default's speed, which draws about a
+    # third as many samples: a rate names the estimator it was measured with.
+    from rtweekend.options import SAMPLINGS
+    readme = (REPO / "README.md").read_text()
+    rates = [s for s in _sentences(readme) if re.search(r"[0-9.]+ M samples/s", s)]
+    assert rates
+    for sentence in rates:
+        assert any(f"`{name}`" in sentence for name in SAMPLINGS), sentence
+        assert "2-core" in sentence, sentence
+
+
+def test_the_readme_says_what_rtweekend_does_not_do():
+    readme = (REPO / "README.md").read_text()
+    limits = readme.split("## Limits", 1)[1].split("\n## ", 1)[0].lower()
+    for words in ("environment-map", "gltf", "mitsuba xml", "pbrt", "blender", "gpu",
+                  "rotate_y"):
+        assert words in limits, words
+
+
+def test_every_bundled_scene_is_described_in_the_scenes_doc():
+    import rtweekend as rt
+    doc = (REPO / "docs" / "scenes.md").read_text()
+    table = doc.split("## The bundled scenes", 1)[1].split("\n## ", 1)[0]
+    for name in rt.bundled_scenes():
+        assert f"| `{name}` |" in table, name
