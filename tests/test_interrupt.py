@@ -350,6 +350,27 @@ def test_the_bar_shows_seconds_and_spp_with_a_time_budget(tmp_path):
     assert " spp, pass " in r.stderr and "M samples/s" in r.stderr
 
 
+def test_the_bars_time_left_comes_from_the_samples_rate_not_the_first_pass(monkeypatch):
+    # A one-minute render: the first pass is a row per thread (2 of 100 rows of
+    # the first sample) in 0.05 s.  tqdm's own estimate read hours there.
+    import io
+    from types import SimpleNamespace
+    from rtweekend.io.progress import Progress
+    err = io.StringIO()
+    monkeypatch.setattr(sys, "stderr", err)
+    bar = Progress(True, spp=10)
+    bar.started()
+    first = SimpleNamespace(width=100, height=100, spp=0, band=1, rows_done=2, seconds=0.05)
+    bar.update(first, 1)
+    assert "<?," in err.getvalue().split("\r")[-1]            # not known yet
+    second = SimpleNamespace(width=100, height=100, spp=2, band=0, rows_done=0, seconds=12.0)
+    bar.update(second, 2)
+    shown = err.getvalue().split("\r")[-1]
+    assert "<00:48," in shown, shown                          # 8 spp left at 6 s each
+    bar.close()
+    assert Progress(True, spp=None, time=30).time_left(second, 1) == 18.0
+
+
 # -- version and help ------------------------------------------------------------------
 
 def test_version_is_pyproject_s():

@@ -39,8 +39,11 @@ class Progress:
     requested or None, samples per second).
     """
 
-    # tqdm writes desc with ": " after it, and postfix with ", " before it.
-    FORMAT = "{desc}{percentage:3.0f}%|{bar}| {elapsed}<{remaining}{postfix}"
+    # tqdm writes desc with ": " after it, and postfix with ", " before it.  The
+    # time left is ours (LEFT): tqdm's own, from its clock and the bar's count,
+    # read hours at the start of a one-minute render (the first pass covers a
+    # row per thread, a sliver of the work, in the time of a whole one).
+    FORMAT = "{desc}{percentage:3.0f}%|{bar}| {elapsed}<LEFT{postfix}"
 
     def __init__(self, progress, spp, time=None):
         self.callback = progress if callable(progress) else None
@@ -55,7 +58,7 @@ class Progress:
         if self._show:
             self.bar = _tqdm()(total=self.time if self.time is not None else self.spp,
                                desc="render: ", leave=False, dynamic_ncols=True, file=sys.stderr,
-                               bar_format=self.FORMAT)
+                               bar_format=self.FORMAT.replace("LEFT", "?"))
 
     def update(self, renderer, passes):
         r = renderer
@@ -68,10 +71,24 @@ class Progress:
                 done, spp = min(r.seconds, self.time), f"{r.spp} spp"
             else:
                 done, spp = r.spp + r.band * r.rows_done / r.height, f"{r.spp}/{self.spp} spp"
+            left = self.time_left(r, passes)
+            self.bar.bar_format = self.FORMAT.replace(
+                "LEFT", "?" if left is None else self.bar.format_interval(left))
             self.bar.set_postfix_str(f"{spp}, pass {passes}, {rate / 1e6:.2f} M samples/s",
                                      refresh=False)
             self.bar.update(done - self.bar.n)
             self.bar.refresh()
+
+    def time_left(self, r, passes):
+        """Seconds of rendering left, or None while unknown: from the rate of
+        the samples rendered so far (the render's own seconds, no compile),
+        once a pass beyond the first has measured it."""
+        if self.time is not None:
+            return max(0.0, self.time - r.seconds)
+        done = r.spp + r.band * r.rows_done / r.height
+        if passes < 2 or done <= 0 or r.seconds <= 0:
+            return None
+        return max(0.0, self.spp - done) * r.seconds / done
 
     def close(self):
         if self.bar is not None:
