@@ -281,7 +281,7 @@ def _render(args):
         if layered:
             layers["unbiased"] = result.image
     metadata = dict(spp=stats.spp, seed=stats.seed, seconds=f"{stats.seconds:.3f}",
-                    sampling=stats.sampling or "", version=version(),
+                    sampling=stats.sampling_named if stats.sampling else "", version=version(),
                     denoised=result.denoised is not None)
     try:
         # In the worker thread, this one awake: Ctrl-C during a long encode

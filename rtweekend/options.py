@@ -292,9 +292,19 @@ def photons_serve(scene):
     """Do bdpt's caustic photon maps serve `scene`?  They start on its emitters,
     are aimed at the lights list's objects that do not emit (attractors, such as a glass ball),
     and do not scatter in media or move with time (path/integrators/photons.py)."""
-    return (any(shape.material.kind == "diffuse_light" for shape in scene.objects)
-            and any(light.material.kind != "diffuse_light" for light in scene.lights)
-            and not any(shape.medium or shape.moving for shape in scene.objects))
+    return photons_skipped(scene) is None
+
+
+def photons_skipped(scene):
+    """Why bdpt+photons renders `scene` as bdpt+sobol, in a few words (the
+    summary says so), or None when its photon maps serve it."""
+    if not any(shape.material.kind == "diffuse_light" for shape in scene.objects):
+        return "no emitter to start photons on"
+    if not any(light.material.kind != "diffuse_light" for light in scene.lights):
+        return "no photon targets in lights"
+    if any(shape.medium or shape.moving for shape in scene.objects):
+        return "no photon maps with media or motion blur"
+    return None
 
 
 @contextmanager

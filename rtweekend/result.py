@@ -30,7 +30,8 @@ class RenderStats:
     compiled: bool = False   # the kernels were compiled (not loaded from the cache)
     denoise_seconds: float | None = None   # the denoiser's time, when asked for (seen_light.py's
     #                                        pass and Open Image Denoise)
-    sampling: str | None = None   # the path tracer's strategy (options.SAMPLINGS)
+    sampling: str | None = None   # the path tracer's strategy that ran (options.SAMPLINGS)
+    sampling_note: str | None = None   # why it is not the one asked for, if it is not
 
     @property
     def samples_per_s(self):
@@ -49,6 +50,13 @@ class RenderStats:
         return self.fireflies / self.samples if self.samples else 0.0
 
     @property
+    def sampling_named(self):
+        """The strategy that ran, and why where it is not the one asked for:
+        "bdpt+sobol (no photon targets in lights)"."""
+        note = f" ({self.sampling_note})" if self.sampling_note else ""
+        return f"{self.sampling or 'path'}{note}"
+
+    @property
     def compile_note(self):
         """", plus 16.3 s compiling" when the kernels were compiled (not loaded)."""
         if not self.compiled:
@@ -65,7 +73,7 @@ class RenderStats:
         note = (f" (interrupted: {self.spp} of {self.spp_requested} spp)"
                 if self.interrupted and self.spp_requested else
                 " (interrupted)" if self.interrupted else "")
-        how = f"{self.sampling}, " if self.sampling else ""
+        how = f"{self.sampling_named}, " if self.sampling else ""
         return (f"{self.width}x{self.height}, {self.spp} spp{self.partial_note}, {how}"
                 f"{self.seconds:.2f} s{self.compile_note}, "
                 f"{self.samples_per_s / 1e6:.3f} M samples/s, "
@@ -134,7 +142,7 @@ class RenderResult:
             error = f"standard error {100 * float(known.mean()) / mean:.1f}% of the mean"
         else:
             error = "no standard error yet"
-        return (f"{s.width}x{s.height}, {s.spp} spp, {s.sampling or 'path'}, {s.seconds:.2f} s, "
+        return (f"{s.width}x{s.height}, {s.spp} spp, {s.sampling_named}, {s.seconds:.2f} s, "
                 f"{s.samples_per_s / 1e6:.2f} M samples/s, {error}")
 
     def _repr_png_(self):

@@ -189,6 +189,31 @@ def test_the_default_sampling_follows_from_what_the_scene_holds():
     assert used(box) == "bdpt+photons"
 
 
+def test_the_summary_says_what_ran_and_why_when_it_is_not_what_was_asked(tmp_path, capsys):
+    # mirror_light's lights list names its emitter only: bdpt+photons has no
+    # photon targets and renders as bdpt+sobol, bit for bit; the summary, the
+    # stats and the EXR header say so (they named bdpt+photons).
+    from rtweekend.cli import main
+    scene = rt.load_scene("mirror_light")
+    asked = rt.render(scene, spp=2, width=8, height=8, sampling="bdpt+photons", progress=False)
+    ran = rt.render(scene, spp=2, width=8, height=8, sampling="bdpt+sobol", progress=False)
+    assert np.array_equal(asked.image, ran.image)
+    stats = asked.stats
+    assert (stats.sampling, stats.sampling_note) == ("bdpt+sobol", "no photon targets in lights")
+    assert ", bdpt+sobol (no photon targets in lights), " in stats.summary()
+    assert ran.stats.sampling_note is None and ", bdpt+sobol, " in ran.stats.summary()
+    glass = rt.render(rt.load_scene("cornell_glass"), spp=1, width=8, height=8,
+                      sampling="bdpt+photons", progress=False).stats
+    assert (glass.sampling, glass.sampling_note) == ("bdpt+photons", None)
+    out = tmp_path / "m.exr"
+    assert main(["render", "mirror_light", "--sampling", "bdpt+photons", "--spp", "1",
+                 "--width", "8", "--height", "8", "-q", "-o", str(out)]) == 0
+    assert "bdpt+sobol (no photon targets in lights)" in capsys.readouterr().out
+    OpenEXR = pytest.importorskip("OpenEXR", reason="the exr extra is not installed")
+    with OpenEXR.File(str(out)) as f:
+        assert f.header()["rtweekend.sampling"] == "bdpt+sobol (no photon targets in lights)"
+
+
 def test_one_side_of_the_image_keeps_the_cameras_aspect_ratio():
     metals = rt.load_scene("metals")                  # 400x225
     assert rt.render(metals, spp=1, width=100).image.shape == (56, 100, 3)

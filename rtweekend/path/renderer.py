@@ -23,7 +23,7 @@ from .. import checks, memory
 from ..denoise import denoise as denoise_image
 from ..errors import FieldError, SceneError, SceneWarning
 from ..kernel.rows import interleaved_rows, on_threads
-from ..options import RenderOptions, photons_serve, thread_count
+from ..options import RenderOptions, photons_serve, photons_skipped, thread_count
 from ..result import RenderResult, RenderStats
 from ..scene.scene import Scene
 from . import film as films
@@ -198,6 +198,11 @@ class Renderer:
             self.frame = freeze(scene, options)
         self.width, self.height = self.frame.width, self.frame.height
         self.name = scene.name     # what a preview calls the image
+        # What runs, said by the summary: bdpt+photons is bdpt+sobol bit for bit
+        # where its photon maps have nothing to do (options.photons_skipped).
+        self.sampling, self.sampling_note = options.sampling, None
+        if options.strategy.photons and (why := photons_skipped(scene)):
+            self.sampling, self.sampling_note = "bdpt+sobol", why
         self.film = films.new_film(self.height, self.width, splats(self.frame), self.frame.aov)
         self.spp = 0               # samples per pixel so far, in every pixel
         self.band = 0              # a pass over part of the rows in progress: its spp
@@ -313,7 +318,8 @@ class Renderer:
             seed=self.frame.params.seed, fireflies=fireflies, firefly_energy=firefly_energy,
             clamp=None if math.isinf(clamp) else clamp,
             stopped_by=stopped_by if interrupted else None,
-            partial_rows=self.rows_done, partial_spp=self.band, sampling=self.options.sampling)
+            partial_rows=self.rows_done, partial_spp=self.band, sampling=self.sampling,
+            sampling_note=self.sampling_note)
         wanted = self.options.aov or ()
         samples = np.full(self.height, self.spp)
         samples[self.frame.rows[:self.rows_done]] += self.band     # a pass over part of the rows
