@@ -8,6 +8,7 @@ kernel (Ctrl-C: the render returns what it has) leaves its last image shown.
 The preview only reads the film: the image is the same bits with or without
 it.
 """
+import sys
 import time
 
 from ..errors import SceneError
@@ -20,6 +21,8 @@ MIN_INTERVAL = 0.75
 
 def in_notebook():
     """Is this code running in a Jupyter kernel (not a terminal IPython)?"""
+    if "IPython" not in sys.modules:     # a kernel has it loaded; importing it takes
+        return False                     # a second on a busy machine (the spinner waits)
     try:
         from IPython import get_ipython
     except ImportError:
