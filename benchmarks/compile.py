@@ -9,7 +9,8 @@ ball, glass and a mesh), `rtweekend render SCENE --width 64 --height 64 --spp
 again with that cache (the cached start).  The yardstick's own cold start,
 whole process with an empty Numba cache,
 
-    NUMBA_CACHE_DIR=EMPTY PROBE_FM=det PROBE_DTYPE=f64 python ../shared/yardsticks/numba_probe.py bench 64 1 1
+    NUMBA_CACHE_DIR=EMPTY PROBE_FM=det PROBE_DTYPE=f64 \
+        python ../shared/yardsticks/numba_probe.py bench 64 1 1
 
 runs before the first scene, between every few and after the last; each
 scene's ratio is to the median of those runs (these machines' speed drifts

@@ -1,6 +1,5 @@
 """What a render's compile is made of: kernels compiled side by side in helper
 processes, the seconds it reports, and the spinner that shows it."""
-import hashlib
 import io
 import os
 import re
@@ -8,7 +7,6 @@ import subprocess
 import sys
 import time
 
-import numpy as np
 import pytest
 from watch import Watched
 
