@@ -70,7 +70,7 @@ class Progress:
             if self.time is not None:
                 done, spp = min(r.seconds, self.time), f"{r.spp} spp"
             else:
-                done, spp = r.spp + r.band * r.rows_done / r.height, f"{r.spp}/{self.spp} spp"
+                done, spp = _spp_done(r), f"{r.spp}/{self.spp} spp"
             left = self.time_left(r, passes)
             self.bar.bar_format = self.FORMAT.replace(
                 "LEFT", "?" if left is None else self.bar.format_interval(left))
@@ -85,7 +85,7 @@ class Progress:
         once a pass beyond the first has measured it."""
         if self.time is not None:
             return max(0.0, self.time - r.seconds)
-        done = r.spp + r.band * r.rows_done / r.height
+        done = _spp_done(r)
         if passes < 2 or done <= 0 or r.seconds <= 0:
             return None
         return max(0.0, self.spp - done) * r.seconds / done
@@ -93,6 +93,11 @@ class Progress:
     def close(self):
         if self.bar is not None:
             self.bar.close()
+
+
+def _spp_done(r):
+    """Samples per pixel done, with a pass over part of the rows as its fraction."""
+    return r.spp + r.band * r.rows_done / r.height
 
 
 class Spinner:

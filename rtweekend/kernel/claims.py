@@ -114,22 +114,29 @@ class Session:
         out = {}
         for name in os.listdir(self.folder):
             if name.endswith(".claim"):
-                try:
-                    with open(os.path.join(self.folder, name)) as f:
-                        pid = int(f.read() or 0)
-                except (OSError, ValueError):
-                    continue
-                out[pid] = out.get(pid, 0) + 1
+                pid = _pid(os.path.join(self.folder, name))
+                if pid is not None:
+                    out[pid] = out.get(pid, 0) + 1
         return out
 
     def _claimant_alive(self, key):
-        try:
-            with open(self._path("claim", key)) as f:
-                pid = int(f.read() or 0)
-            os.kill(pid, 0)
-            return True
-        except (OSError, ValueError):
+        pid = _pid(self._path("claim", key))
+        if pid is None:
             return False
+        try:
+            os.kill(pid, 0)         # (0: a claim being written; its claimant is alive)
+            return True
+        except OSError:
+            return False
+
+
+def _pid(claim):
+    """The pid a claim file holds, or None (gone, or not written yet)."""
+    try:
+        with open(claim) as f:
+            return int(f.read() or 0)
+    except (OSError, ValueError):
+        return None
 
 
 @register_pass(mutates_CFG=False, analysis_only=True)

@@ -28,11 +28,10 @@ import subprocess
 import sys
 import tempfile
 import threading
-import time
 
 import numba
 
-from . import claims, compile_clock, disk_cache
+from . import claims, disk_cache
 
 POLL = 0.05          # seconds between looks at a helper
 STARTED = [0]        # helpers this process has started (tests, benchmarks)
@@ -216,35 +215,33 @@ def _send(process, message):
 class Ahead:
     """A compile_ahead in the standby helper: wait() until it is done."""
 
-    def __init__(self, process, flag):
-        self.process, self.flag = process, flag
+    def __init__(self, session, key):
+        self.session, self.key = session, key
 
     def wait(self):
         """Until the helper has run it (counted as compiling); if the helper
         is gone instead, this process compiles what it needs itself."""
-        with compile_clock.waiting():
-            while not os.path.exists(self.flag) and self.process.poll() is None:
-                time.sleep(POLL / 5)
-        try:
-            os.remove(self.flag)
-        except OSError:
-            pass
+        self.session.wait(self.key)
+        shutil.rmtree(self.session.folder, ignore_errors=True)
 
 
 def compile_ahead(fn):
     """Have the standby helper call fn (a module-level function of this package
     that compiles, or loads, what this process will need soon) while this
     process compiles something else; then the helper waits for its job as
-    before.  An Ahead to wait() for, or None without a standby helper."""
+    before.  An Ahead to wait() for, or None without a standby helper.  Its
+    claim and done mark are a claims.Session's, as for a kernel."""
     if not _STANDBY:
         return None
     process, _ = _STANDBY[0]
-    flag = os.path.join(tempfile.gettempdir(), f"rtweekend-ahead-{os.getpid()}-{id(fn)}")
+    session, key = claims.Session(tempfile.mkdtemp(prefix="rtweekend-ahead-")), fn.__name__
+    session.claim_for(key, process.pid)
     try:
-        _send(process, ("ahead", fn.__module__, fn.__name__, flag))
+        _send(process, ("ahead", fn.__module__, fn.__name__, session.folder, key))
     except OSError:                 # the helper is gone
+        shutil.rmtree(session.folder, ignore_errors=True)
         return None
-    return Ahead(process, flag)
+    return Ahead(session, key)
 
 
 def _name(dispatcher):
@@ -286,15 +283,14 @@ def _serve():
     threading.Thread(target=read, daemon=True).start()
     from .jit import collector_paused
     while (message := messages.get())[0] == "ahead":
-        _, module, name, flag = message
+        _, module, name, folder, key = message
         try:
             with collector_paused():
                 getattr(import_module(module), name)()
         except Exception as e:    # the parent compiles it itself; the job may still come
             print(f"compiling ahead {module}.{name}: {type(e).__name__}: {e}", file=sys.stderr)
         finally:
-            with open(flag, "w"):
-                pass
+            claims.Session(folder).done(key)
     _, folder, own, (module, name, sig) = message
     with collector_paused(), claims.Session(folder) as session:
         for m, n, s in own:

@@ -85,14 +85,22 @@ class _NoEnvironment:
         pass
 
 
-class StepCompiler(Compiler):
-    """Numba's pipeline, lowering a step into a StepLibrary."""
+class _IntoLibrary(Compiler):
+    """Numba's pipeline, lowering a function into a library of class LIBRARY."""
+
+    LIBRARY = None
 
     def compile_extra(self, func):
         if self.state.library is None:
-            self.state.library = StepLibrary(self.state.targetctx.codegen(), func.__qualname__)
+            self.state.library = self.LIBRARY(self.state.targetctx.codegen(), func.__qualname__)
             self.state.library.enable_object_caching()
         return super().compile_extra(func)
+
+
+class StepCompiler(_IntoLibrary):
+    """Lowers a step into a StepLibrary."""
+
+    LIBRARY = StepLibrary
 
 
 class _StepCacheImpl(disk_cache.PackageCache._impl_class):
@@ -136,11 +144,7 @@ class KernelLibrary(JITCodeLibrary):
 KERNEL_OPT = 1
 
 
-class KernelCompiler(Compiler):
-    """Numba's pipeline, lowering a kernel into a KernelLibrary."""
+class KernelCompiler(_IntoLibrary):
+    """Lowers a kernel into a KernelLibrary."""
 
-    def compile_extra(self, func):
-        if self.state.library is None:
-            self.state.library = KernelLibrary(self.state.targetctx.codegen(), func.__qualname__)
-            self.state.library.enable_object_caching()
-        return super().compile_extra(func)
+    LIBRARY = KernelLibrary
