@@ -29,9 +29,8 @@ import sys
 import tempfile
 import threading
 
-import numba
-
 from . import claims, disk_cache
+from .disk_cache import loaded, signature
 
 POLL = 0.05          # seconds between looks at a helper
 STARTED = [0]        # helpers this process has started (tests, benchmarks)
@@ -62,24 +61,6 @@ def enabled():
     ($RTWEEKEND_COMPILE_HELPERS=0 turns them off)."""
     return (cpus() > 1 and disk_cache.CAN_LOCK
             and os.environ.get("RTWEEKEND_COMPILE_HELPERS", "1") != "0")
-
-
-def signature(args):
-    """The Numba types a dispatcher compiles for when called with `args`."""
-    return tuple(numba.typeof(a) for a in args)
-
-
-def loaded(dispatcher, sig):
-    """Is dispatcher compiled for sig in this process, or in the cache (then
-    load it, as Dispatcher.compile would)?"""
-    if sig in dispatcher.overloads:
-        return True
-    cres = dispatcher._cache.load_overload(sig, dispatcher.targetctx)
-    if cres is None:
-        return False
-    dispatcher.targetctx.insert_user_function(cres.entry_point, cres.fndesc, [cres.library])
-    dispatcher.add_overload(cres)
-    return True
 
 
 def compile_all(calls):

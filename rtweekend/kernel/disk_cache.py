@@ -25,6 +25,7 @@ import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 
+import numba
 from numba.core import caching, config
 
 try:
@@ -261,3 +262,21 @@ def stale_files():
 def size():
     """Bytes under BASE."""
     return sum(p.stat().st_size for p in Path(BASE).rglob("*") if p.is_file())
+
+
+def signature(args):
+    """The Numba types a dispatcher compiles for when called with `args`."""
+    return tuple(numba.typeof(a) for a in args)
+
+
+def loaded(dispatcher, sig):
+    """Is dispatcher compiled for sig in this process, or in the cache (then
+    load it, as Dispatcher.compile would)?"""
+    if sig in dispatcher.overloads:
+        return True
+    cres = dispatcher._cache.load_overload(sig, dispatcher.targetctx)
+    if cres is None:
+        return False
+    dispatcher.targetctx.insert_user_function(cres.entry_point, cres.fndesc, [cres.library])
+    dispatcher.add_overload(cres)
+    return True

@@ -46,7 +46,8 @@ import math
 import numpy as np
 from numba import literal_unroll
 
-from ..kernel import compile_workers, simd
+from ..kernel import simd
+from ..kernel.disk_cache import loaded, signature
 from ..kernel.jit import jit_host, jit_step, like
 from ..kernel.stack import stack_array
 from ..kernel.vec3 import reciprocal
@@ -90,14 +91,14 @@ def compile_ahead():
     """wide_tables' compiled functions, compiled (or loaded) for the types
     pack_scene calls them with: what a helper process compiles while the
     render's own compiles the binary tree's builder
-    (compile_workers.compile_ahead)."""
+    (kernel/compile_workers.py compile_ahead)."""
     wide_tables(*_one_leaf())
 
 
 def compiled():
     """Is the collapse compiled, in this process or in the cache (then loaded)?"""
     _, _, box, node, _ = _one_leaf()
-    return compile_workers.loaded(_collapse, compile_workers.signature((box, node, MERGE)))
+    return loaded(_collapse, signature((box, node, MERGE)))
 
 
 @jit_host
