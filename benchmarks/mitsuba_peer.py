@@ -197,12 +197,21 @@ def _local_matrix(s):
     return M
 
 
+def placed_y(angle, offset):
+    """A placement() for a shape described by hand: the books' rotate_y(angle)
+    (x' = cos x + sin z, z' = -sin x + cos z), then translate by offset."""
+    c, sn = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    rot = np.array([[c, 0.0, sn], [0.0, 1.0, 0.0], [-sn, 0.0, c]])
+    return lambda: (rot, np.asarray(offset, dtype=float))
+
+
 def _placement(s):
-    """The books' rotate_y (x' = cos x + sin z, z' = -sin x + cos z), then translate."""
-    c, sn = math.cos(math.radians(s.angle)), math.sin(math.radians(s.angle))
+    """The shape's rotation (the books' rotate_y: x' = cos x + sin z,
+    z' = -sin x + cos z), then translate."""
+    rot, offset = s.placement()
     M = np.eye(4)
-    M[:3, :3] = [[c, 0, sn], [0, 1, 0], [-sn, 0, c]]
-    M[:3, 3] = s.offset
+    M[:3, :3] = rot
+    M[:3, 3] = offset
     return M
 
 

@@ -86,7 +86,7 @@ MEDIA = [
 
 def _rect(kind, geometry, flipped):
     s = SimpleNamespace(kind=kind, geometry=tuple(float(x) for x in geometry),
-                        angle=0.0, offset=(0.0, 0.0, 0.0), flipped=flipped)
+                        placement=peer.placed_y(0.0, (0.0, 0.0, 0.0)), flipped=flipped)
     d = {"type": "rectangle",
          "to_world": mi.ScalarTransform4f((peer._placement(s) @ peer._local_matrix(s)).tolist())}
     if flipped:
@@ -99,7 +99,7 @@ def box_matrix(lo, hi, angle, offset, below=0.0):
     by `below`), rotated by the books' rotate_y(angle), then translated."""
     lo = (float(lo[0]), float(lo[1]) - below, float(lo[2]))
     s = SimpleNamespace(kind="box", geometry=(lo, tuple(float(x) for x in hi)),
-                        angle=float(angle), offset=tuple(float(x) for x in offset))
+                        placement=peer.placed_y(float(angle), offset))
     return peer._placement(s) @ peer._local_matrix(s)
 
 

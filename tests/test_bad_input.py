@@ -108,6 +108,14 @@ BAD_SCENES = [
     (_edit('{ type = "lambertian", ', '{ '), ["materials.white", "type: missing"]),
     (_edit('radius = 1', 'radius = "big"'), ["sphere 'ball'", "radius: expected a number"]),
     (_edit('center = [0, 0, 0]', 'center = [0, 0]'), ["sphere 'ball'", "center: expected 3"]),
+    (_edit('p1 = [3, 1, 1]', 'p1 = [3, 1, 1]\nrotate = [0, 90]'),
+     ["objects[2] (box 'crate')", "rotate: expected 3 angles in degrees [rx, ry, rz]"]),
+    (_edit('p1 = [3, 1, 1]', 'p1 = [3, 1, 1]\nrotate = "up"'),
+     ["objects[2] (box 'crate')", "rotate: expected 3 angles"]),
+    (_edit('p1 = [3, 1, 1]', 'p1 = [3, 1, 1]\nrotate = [nan, 0, 0]'),
+     ["objects[2] (box 'crate')", "rotate: must be finite"]),
+    (_edit('p1 = [3, 1, 1]', 'p1 = [3, 1, 1]\nrotate = [0, 30, 0]\nrotate_y = 30'),
+     ["objects[2] (box 'crate')", "rotate_y: give rotate = [rx, ry, rz] or rotate_y, not both"]),
     (_edit('[0.7, 0.7, 0.7]', '"grey"'), ["materials.white", "albedo: expected 3"]),
     (_edit('flip_face = true', 'flip_face = 1'), ["xz_rect 'lamp'", "flip_face: expected true"]),
     (_edit('width = 8', 'width = 8.5'), ["camera", "width: expected an integer"]),
@@ -264,7 +272,8 @@ VALUES = st.recursive(
     lambda inner: st.lists(inner, max_size=4) | st.dictionaries(
         st.sampled_from(["type", "albedo", "center", "radius", "material", "name", "x0",
                          "x1", "z0", "z1", "k", "p0", "p1", "emit", "fuzz", "ior",
-                         "rotate_y", "translate", "flip_face"]), inner, max_size=6),
+                         "rotate", "rotate_y", "translate", "flip_face"]), inner,
+                        max_size=6),
     max_leaves=12)
 
 KEYS = ["description", "lights", "camera", "render", "materials", "objects", "bogus"]

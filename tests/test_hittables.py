@@ -154,6 +154,66 @@ def test_rotated_translated_box_matches_object_space(target, jitter, angle, bvh)
     assert np.allclose(h["n_out"], rot @ n_obj, atol=1e-9) and h["front"]
 
 
+def _turn(axis, degrees):
+    """The right-handed rotation about world axis 0, 1 or 2, written out."""
+    c, s = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+    return [np.array([[1, 0, 0], [0, c, -s], [0, s, c]]),
+            np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]),       # the books' rotate_y
+            np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])][axis]
+
+
+@pytest.mark.parametrize("bvh", [False, True], ids=["linear", "bvh"])
+@settings(max_examples=200)
+@given(target=vec, jitter=vec, angles=st.tuples(*[st.floats(-180, 180)] * 3))
+def test_any_rotation_of_a_box_matches_object_space(target, jitter, angles, bvh):
+    lo, hi = np.array([-1.0, 0, 2]), np.array([3.0, 0.5, 4])
+    offset = np.array([5.0, -2, 1])
+    a = arrays(rt.box(lo, hi, MAT).rotate(angles).translate(offset), bvh=bvh)
+    rot = _turn(2, angles[2]) @ _turn(1, angles[1]) @ _turn(0, angles[0])   # x, y, then z
+    inside = lo + (np.array(target) * 0.45 + 0.5 + (0.0123, 0.0271, 0.0314)) * (hi - lo)
+    o_obj = inside - 100 * np.array(jitter) / np.linalg.norm(jitter)
+    o = rot @ o_obj + offset
+    d = rot @ (inside - o_obj)
+    d /= np.linalg.norm(d)
+    t_ref, axis = _slab(o_obj, rot.T @ d, lo, hi)
+    h = hit(a, o, d)
+    assert h is not None and h["t"] == pytest.approx(t_ref, rel=1e-9)
+    n_obj = np.zeros(3)
+    n_obj[axis] = -np.sign((rot.T @ d)[axis])
+    assert np.allclose(h["n_out"], rot @ n_obj, atol=1e-9) and h["front"]
+
+
+def test_rotate_turns_about_x_then_y_then_z():
+    # (0, 1, 0): about x by 90 -> (0, 0, 1); about z it stays.  z first would
+    # give (-1, 0, 0), which x keeps.
+    s = rt.sphere((0, 1, 0), 0.5, MAT).rotate((90, 0, 90)).translate((0, 2, 0))
+    np.testing.assert_allclose(arrays(s).obj_f[0, :3], (0, 2, 1), atol=1e-12)
+    # Right-handed, as the books' rotate_y (x' = cos x + sin z = 0, z' = -1).
+    s = rt.sphere((1, 0, 0), 0.5, MAT).rotate((0, 90, 0))
+    np.testing.assert_allclose(arrays(s).obj_f[0, :3], (0, 0, -1), atol=1e-12)
+    rot, _ = rt.quad((0, 0, 0), (1, 0, 0), (0, 1, 0), MAT).rotate((10, 20, 30)).placement()
+    np.testing.assert_allclose(rot, _turn(2, 30) @ _turn(1, 20) @ _turn(0, 10), atol=1e-15)
+    # What is already placed turns with it: translate then rotate is rotate
+    # then translate by the turned offset.
+    t1 = rt.box((0, 0, 0), (1, 1, 1), MAT).translate((1, 2, 3)).rotate((10, 20, 30))
+    t2 = rt.box((0, 0, 0), (1, 1, 1), MAT).rotate((10, 20, 30)).translate(
+        _turn(2, 30) @ _turn(1, 20) @ _turn(0, 10) @ (1, 2, 3))
+    np.testing.assert_allclose(arrays(t1).obj_f, arrays(t2).obj_f, atol=1e-12)
+
+
+@pytest.mark.parametrize("make", [
+    lambda: rt.box((0, 0, 0), (1, 2, 3), MAT),
+    lambda: rt.quad((0, 0, 0), (1, 0, 0), (0, 1, 1), MAT),
+    lambda: rt.xz_rect(0, 1, 0, 2, 0.5, MAT),
+    lambda: rt.sphere((1, 2, 3), 0.5, MAT, center1=(2, 2, 3))],
+    ids=["box", "quad", "xz_rect", "moving sphere"])
+def test_rotate_0_a_0_is_rotate_y_a_bit_for_bit(make):
+    for a in (15.0, -18.0, 90.0, 123.4):
+        one = arrays(make().translate((1, 2, 3)).rotate_y(a).translate((4, 5, 6)))
+        other = arrays(make().translate((1, 2, 3)).rotate((0, a, 0)).translate((4, 5, 6)))
+        assert one.obj_f.tobytes() == other.obj_f.tobytes()
+
+
 def test_rotate_then_translate_sphere_and_chains(bvh):
     s = rt.sphere((1, 0, 0), 0.5, MAT).rotate_y(90).translate((0, 2, 0))
     a = arrays(s, bvh=bvh)

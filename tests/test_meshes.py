@@ -181,7 +181,7 @@ def test_a_box_of_12_triangles_renders_as_the_box_primitive(sampling):
         for o in s.objects:
             if o.kind == "box" and boxes_as_meshes:
                 m = rt.mesh(box_mesh(*o.geometry), o.material)
-                m = m.rotate_y(o.angle).translate(o.offset)
+                m = m.rotate_y(dict(o.turns)[1]).translate(o.offset)
                 out.add(m)
             else:
                 out.add(o, light=any(o is light for light in s.lights))
@@ -243,6 +243,51 @@ f 1/1 4/4 3/3
 """
 
 
+def box_quads(lo, hi):
+    """The six faces of an axis-aligned box as quads (Q, u, v), u x v outward."""
+    lo, hi = np.asarray(lo, float), np.asarray(hi, float)
+    size = hi - lo
+    out = []
+    for axis in range(3):
+        a, b = (axis + 1) % 3, (axis + 2) % 3
+        u, v = np.eye(3)[a] * size[a], np.eye(3)[b] * size[b]        # u x v along +axis
+        high = lo + np.eye(3)[axis] * size[axis]
+        out += [(high, u, v), (lo, v, u)]
+    return out
+
+
+def test_a_box_turned_off_its_axes_is_the_box_of_six_turned_quads_or_triangles():
+    lo, hi, turn = (0, 0, 0), (165, 330, 165), (30, 40, 50)
+    for q, u, v in box_quads(lo, hi):            # the quads do face outward
+        centre = np.add(q, np.add(u, v) / 2)
+        assert np.cross(u, v) @ (centre - np.add(lo, hi) / 2) > 0
+
+    def cornell(tall_box, turn=turn):
+        s = rt.load_scene("cornell_box")
+        out = rt.Scene(camera=s.camera)
+        for o in s.objects:
+            if o.kind == "box" and o.geometry == (lo, hi):
+                for part in tall_box(o.material):
+                    out.add(part.rotate(turn).translate((265, 100, 295)))
+            else:
+                out.add(o, light=any(o is light for light in s.lights))
+        return out
+    as_box = cornell(lambda m: [rt.box(lo, hi, m)])
+    as_quads = cornell(lambda m: [rt.quad(q, u, v, m) for q, u, v in box_quads(lo, hi)])
+    as_mesh = cornell(lambda m: [rt.mesh(box_mesh(lo, hi), m)])
+    a, b, c = (rt.render(s, spp=8, width=40, height=40, seed=3, sampling="mixture+sobol")
+               for s in (as_box, as_quads, as_mesh))
+    # The same surfaces met at the same places, up to rounding: the same
+    # image to float32's precision.  A box turned wrong (or only about y)
+    # would move whole pixels.
+    np.testing.assert_allclose(b.image, a.image, rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(c.image, a.image, rtol=1e-5, atol=1e-6)
+    # ... and the test can tell: the box turned by [0, 40, 0] alone is another image.
+    only_y = cornell(lambda m: [rt.box(lo, hi, m)], turn=(0, 40, 0))
+    d = rt.render(only_y, spp=8, width=40, height=40, seed=3, sampling="mixture+sobol")
+    assert np.abs(d.image - a.image).max() > 0.1
+
+
 def test_a_mesh_file_is_read_placed_and_scaled(tmp_path):
     (tmp_path / "models").mkdir()
     (tmp_path / "models" / "square.obj").write_text(OBJ)
@@ -274,6 +319,35 @@ translate = [10, 1, 0]
     np.testing.assert_allclose(corners[:, 1], 1.0)
     np.testing.assert_allclose(a.obj_f[:, 9:12], [[0, 1, 0]] * 2, atol=1e-12)   # faces up
     assert a.tris.uvs.shape == (2, 6)
+
+
+def test_rotate_stands_a_z_up_model_up(tmp_path):
+    # A Z-up file (as Blender writes it): a triangle lying in z = 0, facing +z,
+    # with vertex normals, stretched along z by scale, then turned about x by
+    # -90 degrees (y' = z, z' = -y) and moved.
+    (tmp_path / "tri.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\n"
+                                      "f 1//1 2//1 3//1\n")
+    (tmp_path / "s.toml").write_text("""
+[camera]
+lookfrom = [0, 0, 5]
+lookat = [0, 0, 0]
+width = 8
+height = 8
+
+[[objects]]
+type = "mesh"
+file = "tri.obj"
+material = { type = "lambertian", albedo = [0.5, 0.5, 0.5] }
+scale = [1, 2, 3]
+rotate = [-90, 0, 0]
+translate = [10, 0, 0]
+""")
+    a = pack_scene(rt.load_scene(tmp_path / "s.toml"))
+    corners = a.obj_f[0, 0:9].reshape(3, 3)
+    # (x, y, z) scaled to (x, 2y, 3z), turned to (x, 3z, -2y), moved.
+    np.testing.assert_allclose(corners, [[10, 0, 0], [11, 0, 0], [10, 0, -2]], atol=1e-12)
+    np.testing.assert_allclose(a.obj_f[0, 9:12], (0, 1, 0), atol=1e-12)     # faces up
+    np.testing.assert_allclose(a.tris.normals.reshape(3, 3), [[0, 1, 0]] * 3, atol=1e-12)
 
 
 def test_flip_face_turns_a_one_sided_mesh_light_around():

@@ -28,7 +28,7 @@ RECT = 1             # any rectangle: turned book rects, quads' rectangles
 XY_RECT = 2          # the book's rects, not turned: tested on their own axis
 XZ_RECT = 3
 YZ_RECT = 4
-BOX = 5              # a box turned by rotate_y and moved: one slab test
+BOX = 5              # a box turned and moved: one slab test
 TRIANGLE = 6         # a mesh's face (shapes/triangle.py; the mesh tables: Triangles)
 PRIMITIVE_KINDS = (SPHERE, RECT, XY_RECT, XZ_RECT, YZ_RECT, BOX, TRIANGLE)
 

@@ -42,7 +42,8 @@ LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 def _areas(kind, row):
     """[(part, area)] of one primitive's rows."""
     if kind == BOX:
-        return [(face, row[box.FACE_AREA + face // 2]) for face in range(6)]
+        areas = box.face_areas(row)
+        return [(face, areas[face // 2]) for face in range(6)]
     if kind == SPHERE:
         return [(-1, 4.0 * math.pi * row[sphere.RADIUS2])]
     if kind == RECT:

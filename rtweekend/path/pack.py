@@ -1,7 +1,7 @@
 """Freezing a Scene into the arrays the path tracer's kernels read (layout.py).
 
 Each shape becomes one primitive (a mesh: one per triangle), placed in the
-world (rotate_y, then translate) and packed by its kind's module
+world (its rotation, then translate) and packed by its kind's module
 (shapes/<kind>.py).
 """
 import numpy as np
@@ -32,10 +32,10 @@ def primitives(shape):
     (box.py), whatever its turn.
     """
     row = np.zeros(OBJ_FLOATS)
-    if shape.kind == "box":
-        box.pack(*shape.geometry, shape.angle, shape.offset, shape.flipped, row)
-        return [(BOX, row)]
     rot, offset = shape.placement()
+    if shape.kind == "box":
+        box.pack(*shape.geometry, rot, offset, shape.flipped, row)
+        return [(BOX, row)]
     if shape.kind == "sphere":
         center, radius = shape.geometry
         sphere.pack(rot @ np.asarray(center) + offset, -radius if shape.flipped else radius,
@@ -47,7 +47,7 @@ def primitives(shape):
             u, v = v, u
         rect.pack(rot @ q + offset, rot @ u, rot @ v, row)
         return [(RECT, row)]
-    if shape.angle % 360.0 == 0.0:
+    if not shape.turned:
         axis_rect.pack(shape.kind, shape.geometry, offset, shape.flipped, row)
         return [(AXIS_RECTS[shape.kind], row)]
     q, u, v = rect.axis_frame(shape.kind, shape.geometry)
@@ -195,7 +195,7 @@ class TriangleTables:
             faces = faces[:, ::-1]
         triangle.pack(world, np.ascontiguousarray(faces), self.count, rows)
         # Per triangle, for its three corners; vertex normals turn with the
-        # mesh (rotate_y is a rotation).  None: the mesh has none.
+        # mesh (a rotation keeps angles).  None: the mesh has none.
         self.uvs.append((len(faces), uvs[faces].reshape(-1, 6) if uvs is not None else None))
         self.normals.append((len(faces), (normals @ rot.T)[faces].reshape(-1, 9)
                              if normals is not None else None))

@@ -35,6 +35,14 @@ def vec3(value, field):
     return tuple(_real(c, field) for c in value)
 
 
+def angles(value, field):
+    """Three rotation angles in degrees [rx, ry, rz], each finite."""
+    if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:
+        raise FieldError(field, f"expected 3 angles in degrees [rx, ry, rz], got "
+                         f"{_show(value)}")
+    return tuple(_real(c, field) for c in value)
+
+
 def color(value, field, *, hi=None):
     """An RGB triple with components >= 0 (and <= hi for albedos)."""
     if isinstance(value, (str, bytes)) or not hasattr(value, "__len__") or len(value) != 3:

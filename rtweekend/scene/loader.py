@@ -26,7 +26,7 @@ PATH_CAMERA_KEYS = ("lookfrom", "lookat", "vup", "vfov", "aperture", "focus_dist
 CLASSIC_CAMERA_KEYS = ("position", "rotation", "viewport", "d")
 SIZE_KEYS = ("width", "height")
 RENDER_KEYS = ("spp", "max_depth", "background")
-PLACEMENT_KEYS = ("rotate_y", "translate", "flip_face")
+PLACEMENT_KEYS = ("rotate", "rotate_y", "translate", "flip_face")
 OBJECT_KEYS = ("type", "name", "material") + PLACEMENT_KEYS
 MEDIUM_KEYS = ("type", "name", "boundary", "density", "albedo")
 # Fields of materials that take a colour or a texture (a table, or a name in [textures]).
@@ -368,6 +368,11 @@ class _Loader:
         shape = self.call(SHAPES[kind], {**args, "material": mat}, OBJECT_KEYS, what,
                           name=name)
         try:
+            if "rotate" in spec and "rotate_y" in spec:
+                raise FieldError("rotate_y", "give rotate = [rx, ry, rz] or rotate_y, not "
+                                 "both (rotate_y = a is rotate = [0, a, 0])")
+            if "rotate" in spec:
+                shape = shape.rotate(fields.angles(spec["rotate"], "rotate"))
             if "rotate_y" in spec:
                 shape = shape.rotate_y(fields.number(spec["rotate_y"], "rotate_y"))
             if "translate" in spec:

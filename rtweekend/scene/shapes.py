@@ -23,13 +23,16 @@ from .materials import Material, check_material, isotropic
 class Shape:
     """A sphere, rect, box or mesh with its material and its placement.
 
-    Placement is rotate_y (degrees, about the world y axis) then translate;
-    any chain of .rotate_y() and .translate() calls reduces to that pair.
+    Placement is a rotation then translate; any chain of .rotate(),
+    .rotate_y() and .translate() calls reduces to that pair.  The rotation is
+    kept as the turns that make it, (axis, degrees) about the world x (0), y (1)
+    or z (2) axis in the order applied, so that the books' rotate_y gives the
+    matrix the books compute from its angle, bit for bit.
     """
     kind: str             # "sphere", "xy_rect", ... (the builder's name)
     geometry: tuple
     material: Material
-    angle: float = 0.0
+    turns: tuple = ()
     offset: tuple = (0.0, 0.0, 0.0)
     flipped: bool = False
     name: str | None = None
@@ -48,7 +51,7 @@ class Shape:
 
     @property
     def area(self):
-        """Surface area (placement keeps it: rotate_y and translate are rigid)."""
+        """Surface area (placement keeps it: rotations and translate are rigid)."""
         g = self.geometry
         if self.kind == "sphere":
             return 4.0 * math.pi * g[1] * g[1]
@@ -66,16 +69,44 @@ class Shape:
         return label("constant_medium" if self.medium else self.kind, self.name)
 
     def rotate_y(self, degrees):
+        """The books' rotate_y: degrees about the world y axis (x' = cos x + sin z,
+        z' = -sin x + cos z)."""
         try:
             degrees = fields.number(degrees, "rotate_y")
         except FieldError as e:
             raise SceneError(f"{self.label}: {e}") from None
+        return self._turn(1, degrees)
+
+    def rotate(self, degrees):
+        """Turn by [rx, ry, rz] degrees about the world x, then y, then z axis
+        (right-handed, as rotate_y): rotate([0, a, 0]) is rotate_y(a)."""
+        try:
+            degrees = fields.angles(degrees, "rotate")
+        except FieldError as e:
+            raise SceneError(f"{self.label}: {e}") from None
+        shape = self
+        for axis, d in enumerate(degrees):
+            if d != 0.0:
+                shape = shape._turn(axis, d)
+        return shape
+
+    def _turn(self, axis, degrees):
+        """Turned about one world axis: what is already placed (its offset and
+        velocity) turns with it; a turn about the same axis as the last one
+        adds to its angle."""
         s, c = math.sin(math.radians(degrees)), math.cos(math.radians(degrees))
-        ox, oy, oz = self.offset
-        vx, vy, vz = self.velocity
-        return replace(self, angle=self.angle + degrees,
-                       offset=(c * ox + s * oz, oy, -s * ox + c * oz),
-                       velocity=(c * vx + s * vz, vy, -s * vx + c * vz))
+        turns = self.turns
+        if turns and turns[-1][0] == axis:
+            turns = turns[:-1] + ((axis, turns[-1][1] + degrees),)
+        else:
+            turns = turns + ((axis, degrees),)
+        return replace(self, turns=turns, offset=_turned(axis, s, c, self.offset),
+                       velocity=_turned(axis, s, c, self.velocity))
+
+    @property
+    def turned(self):
+        """Is it rotated at all (by other than whole turns)?"""
+        return any(d % 360.0 != 0.0 for _, d in self.turns)
 
     def translate(self, offset):
         try:
@@ -97,11 +128,32 @@ class Shape:
         return replace(self, name=name)
 
     def placement(self):
-        """Object-to-world map of rotate_y then translate: a 3x3 matrix and an offset."""
-        s, c = math.sin(math.radians(self.angle)), math.cos(math.radians(self.angle))
-        # The books' rotate_y: x' = cos x + sin z, z' = -sin x + cos z.
-        rot = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
+        """Object-to-world map of the rotation then translate: a 3x3 matrix and
+        an offset."""
+        rot = np.eye(3)
+        for i, (axis, degrees) in enumerate(self.turns):
+            turn = turn_matrix(axis, degrees)
+            rot = turn if i == 0 else turn @ rot
         return rot, np.asarray(self.offset, dtype=np.float64)
+
+
+def turn_matrix(axis, degrees):
+    """The right-handed rotation by degrees about world axis 0, 1 or 2 (about y:
+    the books' x' = cos x + sin z, z' = -sin x + cos z)."""
+    s, c = math.sin(math.radians(degrees)), math.cos(math.radians(degrees))
+    i, j = (axis + 1) % 3, (axis + 2) % 3
+    m = np.eye(3)
+    m[i, i], m[i, j], m[j, i], m[j, j] = c, -s, s, c
+    return m
+
+
+def _turned(axis, s, c, v):
+    """The vector v turned about world axis `axis` by the angle of sine s and
+    cosine c: the axes after it, i and j, turn as i' = c i - s j, j' = s i + c j."""
+    i, j = (axis + 1) % 3, (axis + 2) % 3
+    out = list(v)
+    out[i], out[j] = c * v[i] - s * v[j], s * v[i] + c * v[j]
+    return tuple(out)
 
 
 @checked("sphere")
@@ -221,8 +273,8 @@ def mesh(file: str | Path | tuple, material: Material, *, scale: float | Vec3 = 
     (vertices, faces, uvs, normals [V, 3]).  Every triangle has `material` (a
     file's own materials are not read); its front side is the one its
     vertices turn counter-clockwise around, as the formats define it.
-    scale: a factor (or one per axis) on the vertices, applied before rotate_y
-    and translate.  smooth: shade with vertex normals interpolated across each
+    scale: a factor (or one per axis) on the vertices, applied before
+    rotate/rotate_y and translate.  smooth: shade with vertex normals interpolated across each
     triangle -- None (the default): where the file or arrays give them; True:
     theirs, or made from the faces (weighted by area) if they give none;
     False: flat, each triangle its own normal.  A file's vertex normal that

@@ -1,12 +1,19 @@
-"""The oriented box: an axis-aligned box in its own frame, turned by rotate_y and
-moved by translate, tested as one slab test in that frame.
+"""The oriented box: an axis-aligned box in its own frame, turned by any
+rotation and moved by translate, tested as one slab test in that frame.
 
-Row of obj_f: the box's own corners LO (0:3) and HI (3:6); COS (6) and SIN (7) of
-its rotate_y angle; OFFSET (8:11), its translate; FLIP (11): 1 when flip_face
-turned its normals inward, else 0; AREA (12), its surface area; and FACE_AREA
-(13:16), the area of one face normal to x, y and z.  World to box frame:
-q = p - offset; x = cos qx - sin qz, y = qy, z = sin qx + cos qz (the books'
-rotate_y undone).
+Row of obj_f: the box's own corners LO (0:3) and HI (3:6); its rotation, the
+box-to-world 3x3 matrix M, with M[0][0] in COS (6) and M[0][2] in SIN (7) -- for
+a turn about y alone, its cosine and sine -- and the rest in M01 .. M22
+(12:19); OFFSET (8:11), its translate; FLIP (11): 1 when flip_face turned its
+normals inward, else 0; OFF_Y (19): 1 when the rotation is not about y alone.
+World to box frame: q = p - offset, then M's transpose applied to q.  A face's
+area is the product of two sides (hi - lo), computed where a light needs it
+rather than stored, so that the row fits OBJ_FLOATS.
+
+A box turned about y alone (the books' rotate_y, every bundled scene's) is
+turned by its cosine and sine in the columns the slab test has always read
+(the full product cost 7% of cornell_box's samples/s); any other rotation by
+the full matrix.
 
 A ray leaving the box outward never meets it again (it is convex); one that went
 inside meets it next where it leaves it, at the slab test's far distance: so no
@@ -23,32 +30,42 @@ from ...kernel.jit import jit_step, like
 INF = math.inf
 LO = 0
 HI = 3
-COS = 6
-SIN = 7
+COS = M00 = 6
+SIN = M02 = 7
 OFFSET = 8
 FLIP = 11
-AREA = 12
-FACE_AREA = 13
-FLOATS = 16
+M01, M10, M11, M12, M20, M21, M22 = range(12, 19)
+OFF_Y = 19
+FLOATS = 20
+# The matrix's columns in obj_f, row by row.
+MATRIX = (M00, M01, M02, M10, M11, M12, M20, M21, M22)
 
 
-def pack(lo, hi, degrees, offset, flipped, row):
-    """Fill a row with the box lo..hi (its own frame), turned and moved."""
-    lo, hi = np.asarray(lo, dtype=np.float64), np.asarray(hi, dtype=np.float64)
-    size = hi - lo
-    faces = np.array([size[1] * size[2], size[0] * size[2], size[0] * size[1]])
-    row[LO:LO + 3], row[HI:HI + 3] = lo, hi
-    row[COS], row[SIN] = math.cos(math.radians(degrees)), math.sin(math.radians(degrees))
+def pack(lo, hi, rot, offset, flipped, row):
+    """Fill a row with the box lo..hi (its own frame), turned by the 3x3 matrix
+    rot and moved by offset."""
+    row[LO:LO + 3] = np.asarray(lo, dtype=np.float64)
+    row[HI:HI + 3] = np.asarray(hi, dtype=np.float64)
+    row[list(MATRIX)] = np.asarray(rot, dtype=np.float64).reshape(9)
     row[OFFSET:OFFSET + 3] = offset
     row[FLIP] = 1.0 if flipped else 0.0
-    row[AREA] = 2.0 * faces.sum()
-    row[FACE_AREA:FACE_AREA + 3] = faces
+    about_y = (row[M01] == 0.0 and row[M10] == 0.0 and row[M11] == 1.0 and row[M12] == 0.0
+               and row[M21] == 0.0)
+    row[OFF_Y] = 0.0 if about_y else 1.0
+
+
+def face_areas(row):
+    """The areas of one face normal to x, to y and to z (NumPy; for the lights)."""
+    size = row[HI:HI + 3] - row[LO:LO + 3]
+    return size[1] * size[2], size[0] * size[2], size[0] * size[1]
 
 
 def to_world(row, p):
-    """A point of the box's frame in the world (NumPy; for bounds and tests)."""
-    c, s = row[COS], row[SIN]
-    return np.array([c * p[0] + s * p[2], p[1], -s * p[0] + c * p[2]]) + row[OFFSET:OFFSET + 3]
+    """A point of the box's frame in the world (NumPy; for bounds and tests),
+    summed in the kernel's order."""
+    m = row[list(MATRIX)]
+    return np.array([m[3 * i] * p[0] + m[3 * i + 1] * p[1] + m[3 * i + 2] * p[2]
+                     for i in range(3)]) + row[OFFSET:OFFSET + 3]
 
 
 def bounds(row):
@@ -59,17 +76,57 @@ def bounds(row):
 
 
 @jit_step
-def _local_point(obj_f, k, p):
-    qx = p[0] - obj_f[k, OFFSET]
-    qz = p[2] - obj_f[k, OFFSET + 2]
-    c, s = obj_f[k, COS], obj_f[k, SIN]
-    return (c * qx - s * qz, p[1] - obj_f[k, OFFSET + 1], s * qx + c * qz)
+def _turned_back(obj_f, k, v):
+    """v by the rotation's transpose: a world direction in the box's frame."""
+    return (obj_f[k, M00] * v[0] + obj_f[k, M10] * v[1] + obj_f[k, M20] * v[2],
+            obj_f[k, M01] * v[0] + obj_f[k, M11] * v[1] + obj_f[k, M21] * v[2],
+            obj_f[k, M02] * v[0] + obj_f[k, M12] * v[1] + obj_f[k, M22] * v[2])
+
+
+@jit_step
+def _to_local(obj_f, k, p, d):
+    """The point p and the direction d in the box's frame (one test of the
+    rotation's kind for both: this is the slab test's way in)."""
+    q = (p[0] - obj_f[k, OFFSET], p[1] - obj_f[k, OFFSET + 1], p[2] - obj_f[k, OFFSET + 2])
+    if obj_f[k, OFF_Y] == 0.0:
+        c, s = obj_f[k, COS], obj_f[k, SIN]
+        return ((c * q[0] - s * q[2], q[1], s * q[0] + c * q[2]),
+                (c * d[0] - s * d[2], d[1], s * d[0] + c * d[2]))
+    return _turned_back(obj_f, k, q), _turned_back(obj_f, k, d)
 
 
 @jit_step
 def _local_direction(obj_f, k, d):
-    c, s = obj_f[k, COS], obj_f[k, SIN]
-    return (c * d[0] - s * d[2], d[1], s * d[0] + c * d[2])
+    return _to_local(obj_f, k, (0.0, 0.0, 0.0), d)[1]
+
+
+@jit_step
+def _local_point(obj_f, k, p):
+    return _to_local(obj_f, k, p, (0.0, 0.0, 0.0))[0]
+
+
+@jit_step
+def _world_direction(obj_f, k, v):
+    if obj_f[k, OFF_Y] == 0.0:
+        c, s = obj_f[k, COS], obj_f[k, SIN]
+        return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])
+    return (obj_f[k, M00] * v[0] + obj_f[k, M01] * v[1] + obj_f[k, M02] * v[2],
+            obj_f[k, M10] * v[0] + obj_f[k, M11] * v[1] + obj_f[k, M12] * v[2],
+            obj_f[k, M20] * v[0] + obj_f[k, M21] * v[1] + obj_f[k, M22] * v[2])
+
+
+@jit_step
+def _face_area(obj_f, k, axis):
+    """The area of one face normal to axis 0, 1 or 2: the product of the other two
+    sides (as face_areas)."""
+    a, b = (1, 2) if axis == 0 else (0, 2) if axis == 1 else (0, 1)
+    return (obj_f[k, HI + a] - obj_f[k, LO + a]) * (obj_f[k, HI + b] - obj_f[k, LO + b])
+
+
+@jit_step
+def _area(obj_f, k):
+    """The box's surface area, summed as pack summed it before."""
+    return 2.0 * (_face_area(obj_f, k, 0) + _face_area(obj_f, k, 1) + _face_area(obj_f, k, 2))
 
 
 @jit_step
@@ -88,8 +145,7 @@ def _slab(lo, hi, o, d):
 def slabs(obj_f, k, o, d):
     """(near, far) distances along d where the line o + t d is inside the box
     (near > far: it misses).  In the precision of o and d."""
-    lo = _local_point(obj_f, k, o)
-    ld = _local_direction(obj_f, k, d)
+    lo, ld = _to_local(obj_f, k, o, d)
     n0, f0 = _slab(obj_f[k, LO], obj_f[k, HI], lo[0], ld[0])
     n1, f1 = _slab(obj_f[k, LO + 1], obj_f[k, HI + 1], lo[1], ld[1])
     n2, f2 = _slab(obj_f[k, LO + 2], obj_f[k, HI + 2], lo[2], ld[2])
@@ -100,8 +156,7 @@ def slabs(obj_f, k, o, d):
 def slab_axes(obj_f, k, o, d):
     """slabs, with the axis of the face where the line enters and where it
     leaves (for the light pdf's cosines)."""
-    lo = _local_point(obj_f, k, o)
-    ld = _local_direction(obj_f, k, d)
+    lo, ld = _to_local(obj_f, k, o, d)
     n0, f0 = _slab(obj_f[k, LO], obj_f[k, HI], lo[0], ld[0])
     n1, f1 = _slab(obj_f[k, LO + 1], obj_f[k, HI + 1], lo[1], ld[1])
     n2, f2 = _slab(obj_f[k, LO + 2], obj_f[k, HI + 2], lo[2], ld[2])
@@ -161,12 +216,6 @@ def interval(obj_f, k, o, d):
 
 
 @jit_step
-def _world_direction(obj_f, k, v):
-    c, s = obj_f[k, COS], obj_f[k, SIN]
-    return (c * v[0] + s * v[2], v[1], -s * v[0] + c * v[2])
-
-
-@jit_step
 def outward_normal(obj_f, k, p):
     n = _world_direction(obj_f, k, _face_normal(obj_f, k, p))
     if obj_f[k, FLIP] != 0.0:
@@ -194,13 +243,14 @@ def sample_toward(obj_f, k, p, state):
     # the side by the second half of u2.
     high = u2 >= 0.5
     v = 2.0 * u2 - 1.0 if high else 2.0 * u2
-    pick = u * 0.5 * obj_f[k, AREA]
+    pick = u * 0.5 * _area(obj_f, k)
     x = lo[0] + u1 * (hi[0] - lo[0])
     y = lo[1] + v * (hi[1] - lo[1])
-    if pick < obj_f[k, FACE_AREA]:                               # normal to x
+    area_x = _face_area(obj_f, k, 0)
+    if pick < area_x:                                            # normal to x
         q = (hi[0] if high else lo[0], lo[1] + u1 * (hi[1] - lo[1]),
              lo[2] + v * (hi[2] - lo[2]))
-    elif pick < obj_f[k, FACE_AREA] + obj_f[k, FACE_AREA + 1]:   # normal to y
+    elif pick < area_x + _face_area(obj_f, k, 1):                # normal to y
         q = (x, hi[1] if high else lo[1], lo[2] + v * (hi[2] - lo[2]))
     else:                                                        # normal to z
         q = (x, y, hi[2] if high else lo[2])
@@ -238,7 +288,7 @@ def sample_area(obj_f, k, face, u1, u2):
         sign = -sign
     n = _world_direction(obj_f, k, (sign if axis == 0 else 0.0, sign if axis == 1 else 0.0,
                                     sign if axis == 2 else 0.0))
-    return p, n, 1.0 / obj_f[k, FACE_AREA + axis]
+    return p, n, 1.0 / _face_area(obj_f, k, axis)
 
 
 @jit_step
@@ -256,4 +306,4 @@ def pdf_toward(obj_f, k, p, d, from_self, from_inside):
     total = far * far / abs(ld[far_axis])
     if near > 0.0 and not from_self:
         total += near * near / abs(ld[near_axis])
-    return total / obj_f[k, AREA]
+    return total / _area(obj_f, k)

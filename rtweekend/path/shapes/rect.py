@@ -1,7 +1,7 @@
 """The rectangle: any parallelogram, placed in the world.
 
-The books' xy/xz/yz rects when turned by rotate_y, and The Next Week v4's quads
-(corner Q, edges u and v, not necessarily perpendicular), with rotate_y +
+The books' xy/xz/yz rects when turned, and The Next Week v4's quads
+(corner Q, edges u and v, not necessarily perpendicular), with their rotation +
 translate already applied.
 
 Row of obj_f: corner Q (0:3), edges U (3:6) and V (6:9), unit normal N (9:12),
