@@ -266,3 +266,80 @@ def test_the_helper_compiles_the_wide_bvh_while_this_process_compiles_the_builde
     assert {"_grow", "_collapse", "_blocks"} <= alone[1]
     assert "_grow" in beside[1] and not {"_collapse", "_count_blocks", "_blocks"} & beside[1]
     assert beside[0] == alone[0]
+
+
+# With a standby helper and kernels to compile, a Renderer compiles them
+# first, typed by a stand-in of the scene's arrays, while the helper compiles
+# the BVH builder; the scene is packed after.  Prints whether packing waited,
+# the functions this process compiled in compile() and after it, and hashes
+# of the packed arrays and of the same scene packed directly.
+KERNELS_BEFORE_PACKING = """
+import hashlib
+import numpy as np
+from numba.core import event
+import rtweekend as rt
+from rtweekend.kernel import compile_workers
+from rtweekend.path.pack import pack_scene
+
+compiled = []
+class Watch(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__name__)
+    def on_end(self, ev):
+        pass
+event.register("numba:compile", Watch())
+
+def digest(arrays):
+    h = hashlib.sha256()
+    for a in (arrays.obj_f, arrays.bvh_prims, *arrays.wide):
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
+
+compile_workers.prestart()
+scene = rt.load_scene("cornell_box")
+r = rt.Renderer(scene, width=16, height=16, sampling="mixture", bvh=True, threads=1)
+deferred = r._frame is None
+r.compile()
+during = sorted(set(compiled))
+del compiled[:]
+r.add_samples(1)
+print(deferred, digest(r.frame.scene), digest(pack_scene(scene, bvh=True)), len(compiled),
+      " ".join(during))
+"""
+
+
+@pytest.mark.skipif(not compile_workers.enabled(), reason="needs 2 CPUs and file locks")
+def test_the_kernels_compile_before_packing_while_the_helper_compiles_the_builder(tmp_path):
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "empty"))
+    run = subprocess.run([sys.executable, "-c", KERNELS_BEFORE_PACKING], env=env,
+                         capture_output=True, text=True, timeout=900)
+    assert run.returncode == 0, run.stderr[-2000:]
+    deferred, packed, direct, after, *during = run.stdout.split()
+    assert deferred == "True"
+    assert "render_pass" in during           # the kernel: here (and in the helper)
+    assert "_grow" not in during             # the builder: in the helper, loaded here
+    assert after == "0"                      # the stand-in typed the kernel the render calls
+    assert packed == direct                  # and the scene is packed as pack_scene packs it
+
+
+def _kernel_types(frame, denoise):
+    from rtweekend.kernel.disk_cache import signature
+    from rtweekend.path import film as films
+    film = films.new_film(1, 1, renderers.splats(frame), frame.aov)
+    return [(d.py_func.__module__, signature(args))
+            for d, args in renderers.kernel_calls(frame, film, denoise)]
+
+
+@pytest.mark.parametrize("name", [n for n in rt.bundled_scenes()
+                                  if rt.load_scene(n).resolved_integrator() == "path"])
+def test_the_stand_in_types_each_kernel_as_the_scene_does(name):
+    from rtweekend.options import SAMPLINGS, RenderOptions
+    scene = rt.load_scene(name)
+    cases = [dict(), dict(denoise=True, aov="albedo,normal")]
+    if name == "cornell_glass":
+        cases += [dict(sampling=m) for m in SAMPLINGS]
+    for fields in cases:
+        options = RenderOptions.named("test", "path", **fields).for_scene(scene)
+        denoise = bool(options.denoise)
+        real = _kernel_types(renderers.freeze(scene, options), denoise)
+        assert _kernel_types(renderers.freeze(scene, options, stand_in=True), denoise) == real

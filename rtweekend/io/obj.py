@@ -319,6 +319,21 @@ def _stopped(path, text, status, part, line, word, totals, seen):
                     f"{totals[part]:,} {many if totals[part] != 1 else one}")
 
 
+# A file this long holds more triangles than a scene needs for a BVH.
+AHEAD_BYTES = 4096
+
+
+def _builder_ahead():
+    """A mesh this long will be searched through a BVH: a helper process
+    standing by compiles the builder, if it is not compiled yet, while this
+    one reads the file (compiling the reader) and compiles the kernels
+    (kernel/compile_workers.py, path/renderer.py)."""
+    from ..kernel import compile_workers
+    from ..path import bvh_build
+    if compile_workers.standing_by() and not bvh_build.compiled():
+        compile_workers.compile_ahead(bvh_build.compile_ahead, needed=False)
+
+
 def read(path, fits=None):
     """(vertices, faces, uvs, normals) of the OBJ file at path, as
     meshes.read gives them.  Unread if it holds what this reader does not
@@ -327,6 +342,8 @@ def read(path, fits=None):
     asked once the lines are counted, before the arrays are made (it raises
     if they would not fit in memory)."""
     text = np.fromfile(path, dtype=np.uint8)
+    if len(text) > AHEAD_BYTES:
+        _builder_ahead()
     if text[:3].tobytes() == b"\xef\xbb\xbf":        # a UTF-8 byte order mark
         text = text[3:]
     nv, nvt, nvn, nt, nh, status, part, line, word = _scan(

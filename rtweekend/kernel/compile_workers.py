@@ -17,8 +17,9 @@ clear error naming what it compiled.
 
 The standby helper (prestart) can also be asked to compile ahead
 (compile_ahead): to run a function that compiles into the cache what this
-process will need after what it is compiling now -- the BVH's 4-wide
-collapse while this process compiles the builder -- then to wait for its job.
+process will need after what it is compiling now -- the BVH's builder while
+this process compiles the render's kernels, or the 4-wide collapse while it
+compiles the builder -- then to wait for its job.
 """
 import atexit
 import os
@@ -85,7 +86,9 @@ def compile_all(calls):
 
 def _share(session, missing):
     """The first missing kernel here; each helper first compiles its share of
-    the others, then helps with the first (claims.py)."""
+    the others, then helps with the first (claims.py).  The standby helper
+    first runs what it was asked to compile ahead: waited for before it is
+    stopped (this process would need it next)."""
     (first, first_sig), others = missing[0], missing[1:]
     count = max(1, min(cpus() - 1, len(others)))
     helpers = [Helper(session, others[i::count], (first, first_sig), _standby())
@@ -94,6 +97,9 @@ def _share(session, missing):
         first.compile(first_sig)
         for helper in helpers:
             helper.wait()
+        for ahead in list(_AHEADS.values()):
+            if ahead.needed:
+                ahead.wait()
     finally:
         for helper in helpers:
             helper.stop()
@@ -196,22 +202,39 @@ def _send(process, message):
 class Ahead:
     """A compile_ahead in the standby helper: wait() until it is done."""
 
-    def __init__(self, session, key):
-        self.session, self.key = session, key
+    def __init__(self, session, key, name, needed):
+        self.session, self.key, self.name, self.needed = session, key, name, needed
 
     def wait(self):
         """Until the helper has run it (counted as compiling); if the helper
         is gone instead, this process compiles what it needs itself."""
-        self.session.wait(self.key)
-        shutil.rmtree(self.session.folder, ignore_errors=True)
+        if _AHEADS.get(self.name) is self:
+            self.session.wait(self.key)
+            shutil.rmtree(self.session.folder, ignore_errors=True)
+            del _AHEADS[self.name]
 
 
-def compile_ahead(fn):
+_AHEADS = {}         # asked of the standby helper, not yet waited for: {name: Ahead}
+
+
+def standing_by():
+    """Is a helper started (prestart) and not yet given its job?"""
+    return bool(_STANDBY)
+
+
+def compile_ahead(fn, needed=True):
     """Have the standby helper call fn (a module-level function of this package
     that compiles, or loads, what this process will need soon) while this
     process compiles something else; then the helper waits for its job as
-    before.  An Ahead to wait() for, or None without a standby helper.  Its
-    claim and done mark are a claims.Session's, as for a kernel."""
+    before.  An Ahead to wait() for (the same one if fn was asked for before),
+    or None without a standby helper.  Its claim and done mark are a
+    claims.Session's, as for a kernel.  needed=False: it may turn out not to
+    be (a guess), so the helper may be stopped before it is done; asked for
+    again as needed, it is waited for before the helper is stopped."""
+    name = f"{fn.__module__}.{fn.__name__}"
+    if name in _AHEADS:
+        _AHEADS[name].needed |= needed
+        return _AHEADS[name]
     if not _STANDBY:
         return None
     process, _ = _STANDBY[0]
@@ -222,7 +245,14 @@ def compile_ahead(fn):
     except OSError:                 # the helper is gone
         shutil.rmtree(session.folder, ignore_errors=True)
         return None
-    return Ahead(session, key)
+    _AHEADS[name] = Ahead(session, key, name, needed)
+    return _AHEADS[name]
+
+
+def requested(fn):
+    """The Ahead of fn if the standby helper was asked to compile it and it was
+    not waited for yet, else None."""
+    return _AHEADS.get(f"{fn.__module__}.{fn.__name__}")
 
 
 def _name(dispatcher):

@@ -75,6 +75,41 @@ def _triangle_bounds(obj_f, rows, out):
         _pad(out, k)
 
 
+def _few_objects():
+    """(obj_i, obj_f) of a few triangles and a sphere, typed as pack_scene's: a
+    tree over them takes every compiled path of the build."""
+    from .layout import OBJ_FLOATS, OBJ_INTS, SPHERE
+    obj_i = np.zeros((9, OBJ_INTS), dtype=np.int64)
+    obj_f = np.zeros((9, OBJ_FLOATS))
+    obj_i[:8, OBJ_KIND], obj_i[8, OBJ_KIND] = TRIANGLE, SPHERE
+    for k in range(8):
+        obj_f[k, triangle.P0:triangle.P0 + 9] = np.arange(9.0) + 3.0 * k
+    obj_f[8, 3] = 1.0            # the sphere's radius (shapes/sphere.py)
+    return obj_i, obj_f
+
+
+def compile_ahead():
+    """The builder's and the 4-wide collapse's compiled functions, compiled
+    (or loaded) for pack_scene's types: what a helper process compiles while
+    the render's own process compiles its kernels (kernel/compile_workers.py
+    compile_ahead; pack.py waits for it before building)."""
+    from . import wide_bvh
+    obj_i, obj_f = _few_objects()
+    wide_bvh.wide_tables(obj_i, obj_f, *build_bvh(obj_i, obj_f))
+
+
+def compiled():
+    """Is the builder compiled, in this process or in the cache (then loaded)?"""
+    from . import wide_bvh
+    from ..kernel.disk_cache import loaded, signature
+    obj_i, obj_f = _few_objects()
+    bounds = np.zeros((1, 6))
+    ids, tasks = np.zeros(1, dtype=np.int64), np.zeros((1, 4), dtype=np.int64)
+    grow = (bounds, bounds, ids, 0, 1, 0, bounds, tasks[:, :3].copy(), ids, 1, tasks)
+    return (loaded(_triangle_bounds, signature((obj_f, ids, bounds)))
+            and loaded(_grow, signature(grow)) and wide_bvh.compiled())
+
+
 def build_bvh(obj_i, obj_f, ids=None):
     """(bvh_box [M, 6], bvh_node [M, 3] int64, bvh_prims [N] int64) over the
     objects `ids` (None: all; a constant medium's boundary is not searched)."""

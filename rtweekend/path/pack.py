@@ -4,12 +4,14 @@ Each shape becomes one primitive (a mesh: one per triangle), placed in the
 world (its rotation, then translate) and packed by its kind's module
 (shapes/<kind>.py).
 """
+from dataclasses import replace
+
 import numpy as np
 
 from ..errors import SceneError
 from ..kernel import compile_workers
 from ..scene.fields import SKY
-from . import bvh as hierarchy, mesh_light, wide_bvh
+from . import bvh as hierarchy, bvh_build, mesh_light, wide_bvh
 from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS,
                      MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, OBJ_MAT, PRIMITIVE_KINDS, RECT,
                      SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles,
@@ -116,16 +118,31 @@ def pack_features(scene, arrays):
     return textures, (media.astype(np.int64) if len(media) else None), motion
 
 
-def pack_scene(scene, bvh=None):
+def hierarchy_wanted(scene, bvh=None):
+    """Does pack_scene build a hierarchy for `scene`: bvh (True or False), or
+    when it has bvh.BVH_MIN_OBJECTS primitives the search tests (a constant
+    medium's boundary is an object, media.py, but not one the search tests)."""
+    if bvh is not None:
+        return bvh
+    return sum(s.primitives for s in scene.objects if not s.medium) >= \
+        hierarchy.BVH_MIN_OBJECTS
+
+
+def pack_scene(scene, bvh=None, *, stand_in=False):
     """The SceneArrays of a path-traced Scene (validated here).
 
     bvh: build a hierarchy (True), test every object (False), or decide by the
-    number of primitives (None: from bvh.BVH_MIN_OBJECTS on).  A constant
-    medium's boundary is an object (media.py) but not one the search tests.
+    number of primitives (None: hierarchy_wanted).  stand_in: arrays of the
+    types the scene's own have, made in a moment, to type (and compile) its
+    kernels before the real ones are packed: each mesh cut to one triangle,
+    the hierarchy's tables empty, nothing built.
     """
     scene.check()
     if scene.resolved_integrator() != "path":
         raise SceneError("this scene is rendered by the classic integrator")
+    bvh = hierarchy_wanted(scene, bvh)
+    if stand_in:
+        scene = _one_triangle_each(scene)
     materials, mat_index = scene_materials(scene)
     # Every primitive's rows, written in place (a mesh's millions by compiled
     # code: no list of rows, no copy).
@@ -153,12 +170,18 @@ def pack_scene(scene, bvh=None):
     bg_kind, bg = pack_background(scene.resolved_background())
     surfaces = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] != ISOTROPIC)
     ids = None if len(surfaces) == len(obj_i) else surfaces
-    if bvh is None:
-        bvh = len(surfaces) >= hierarchy.BVH_MIN_OBJECTS
     wide = None
-    if bvh and len(surfaces):
-        # A helper process, if one stands by, compiles the 4-wide collapse
-        # while this one compiles the builder (kernel/compile_workers.py).
+    if bvh and len(surfaces) and stand_in:
+        wide = WideBVH(*wide_bvh.empty())
+        tree = hierarchy.empty_bvh(0)
+    elif bvh and len(surfaces):
+        # The builder compiled by a helper process while this one compiled
+        # the kernels (renderer.py); else, if one stands by, the 4-wide
+        # collapse by it while this one compiles the builder
+        # (kernel/compile_workers.py).
+        ahead = compile_workers.requested(bvh_build.compile_ahead)
+        if ahead is not None:
+            ahead.wait()
         ahead = None if wide_bvh.compiled() else compile_workers.compile_ahead(
             wide_bvh.compile_ahead)
         tree = hierarchy.build_bvh(obj_i, obj_f, ids)
@@ -175,6 +198,20 @@ def pack_scene(scene, bvh=None):
     return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
                        *pack_lights(obj_i, obj_f, mat_i, mat_f), bg_kind, bg, *tree,
                        tris.arrays(obj_f, mesh_lights), wide)
+
+
+def _one_triangle_each(scene):
+    """The scene with each mesh cut to its first triangle (pack_scene's stand-in)."""
+    cut = {id(s): replace(s, geometry=_first_triangle(*s.geometry))
+           for s in scene.objects if s.kind == "mesh"}
+    if not cut:
+        return scene
+    return replace(scene, objects=[cut.get(id(s), s) for s in scene.objects],
+                   lights=[cut.get(id(s), s) for s in scene.lights])
+
+
+def _first_triangle(vertices, faces, uvs, normals):
+    return vertices, faces[:1], uvs, normals
 
 
 class TriangleTables:

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..kernel import compile_workers
 from ..kernel.compile_clock import Stopwatch
+from ..kernel.disk_cache import loaded, signature
 from ..kernel.jit import collector_paused
 from .. import checks, memory
 from ..denoise import denoise as denoise_image
@@ -32,6 +33,7 @@ from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
 from .integrators import ESTIMATORS, photons
 from .layout import BG_COLOR, Features, PathParams, SceneArrays
+from . import bvh_build, pack
 from .pack import dark_sides, pack_features, pack_scene, scene_bytes
 
 
@@ -58,10 +60,12 @@ class Frame(NamedTuple):
 SOBOL_PAIRS = 2
 
 
-def freeze(scene, options):
-    """The Frame for rendering `scene` with validated RenderOptions."""
+def freeze(scene, options, stand_in=False):
+    """The Frame for rendering `scene` with validated RenderOptions.  stand_in:
+    one of the same types, made in a moment (pack_scene), to compile the
+    kernels with before the scene is packed."""
     scene = options.sized(scene)          # one side alone keeps the aspect ratio
-    arrays = pack_scene(scene, bvh=options.bvh)
+    arrays = pack_scene(scene, bvh=options.bvh, stand_in=stand_in)
     strategy = options.strategy
     next_event = strategy.next_event and len(arrays.emitters) > 0
     if next_event or strategy.photons:
@@ -84,6 +88,14 @@ def freeze(scene, options):
         _check_light_tracing(options, arrays)
     return Frame(arrays, params, interleaved_rows(camera.height), features, strategy.estimator,
                  options.features)
+
+
+def _missing_kernels(stand_in, options):
+    """kernel_calls of the stand-in Frame if any of its kernels is missing from
+    the cache, else None."""
+    film = films.new_film(1, 1, splats(stand_in), stand_in.aov)
+    calls = kernel_calls(stand_in, film, bool(options.denoise))
+    return None if all(loaded(d, signature(args)) for d, args in calls) else calls
 
 
 def _check_light_tracing(options, arrays):
@@ -194,16 +206,28 @@ class Renderer:
         for doubt in scene.doubts():
             warnings.warn(doubt, SceneWarning, stacklevel=2)
         _check_memory(scene, options)
+        # With a helper process standing by and kernels to compile, the scene
+        # is packed after they are compiled (compile), typed meanwhile by a
+        # stand-in of its arrays: the helper compiles the BVH builder while
+        # this process starts on the kernels, then shares them.
+        self._scene, self._frame, self._stand_in = scene, None, None
         with thread_count(options.threads):     # the BVH is built on threads too
-            self.frame = freeze(scene, options)
-        self.width, self.height = self.frame.width, self.frame.height
+            if compile_workers.standing_by():
+                self._stand_in = _missing_kernels(freeze(scene, options, stand_in=True),
+                                                  options)
+            if self._stand_in is None:
+                self._frame, self._scene = freeze(scene, options), None
+        camera = options.sized(scene).resolved_camera()
+        self.width, self.height = camera.width, camera.height
         self.name = scene.name     # what a preview calls the image
         # What runs, said by the summary: bdpt+photons is bdpt+sobol bit for bit
         # where its photon maps have nothing to do (options.photons_skipped).
         self.sampling, self.sampling_note = options.sampling, None
         if options.strategy.photons and (why := photons_skipped(scene)):
             self.sampling, self.sampling_note = "bdpt+sobol", why
-        self.film = films.new_film(self.height, self.width, splats(self.frame), self.frame.aov)
+        self.film = films.new_film(self.height, self.width,
+                                   ESTIMATORS[options.strategy.estimator].SPLATS,
+                                   options.features)
         self.spp = 0               # samples per pixel so far, in every pixel
         self.band = 0              # a pass over part of the rows in progress: its spp
         self.rows_done = 0         # ... and how many of frame.rows have them
@@ -218,9 +242,29 @@ class Renderer:
         the options denoise -- those missing from the cache side by side
         (kernel/compile_workers.py).  Returns compile_seconds."""
         with collector_paused(), thread_count(self.options.threads):
+            if self._stand_in is not None:
+                if pack.hierarchy_wanted(self._scene, self.options.bvh) \
+                        and not bvh_build.compiled():
+                    compile_workers.compile_ahead(bvh_build.compile_ahead)
+                compile_workers.compile_all(self._stand_in)
+                self._stand_in = None
             compile_workers.compile_all(kernel_calls(self.frame, self.film,
                                                      bool(self.options.denoise)))
         return self.compile_seconds
+
+    @property
+    def frame(self) -> Frame:
+        """The frozen scene, parameters and features (packed on first use)."""
+        if self._frame is None:
+            with thread_count(self.options.threads):
+                self._frame = freeze(self._scene, self.options)
+            self._scene = None
+        return self._frame
+
+    @frame.setter
+    def frame(self, frame: Frame):
+        """A Frame of one's own (tests, benchmarks): the same kernels' types."""
+        self._frame, self._scene = frame, None
 
     @property
     def compile_seconds(self) -> float:

@@ -95,6 +95,13 @@ def compile_ahead():
     wide_tables(*_one_leaf())
 
 
+def empty():
+    """A WideBVH of no nodes, typed as wide_tables' (the stand-in that types a
+    render's kernels before its tree is built: pack.py)."""
+    return (np.zeros((0, 6, WIDTH)), np.zeros((0, WIDTH), dtype=np.int64),
+            np.zeros(0, dtype=np.int64), np.zeros((0, 9, WIDTH)))
+
+
 def compiled():
     """Is the collapse compiled, in this process or in the cache (then loaded)?"""
     _, _, box, node, _ = _one_leaf()
