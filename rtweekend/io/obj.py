@@ -20,10 +20,16 @@ at most 15 significant digits is an integer m < 2^53 times 10^e, and with
 A corner that names a texture coordinate or a normal makes a vertex of its
 own for each different (v, vt, vn) it names, as trimesh does; uvs and normals
 are given only when every corner names one.
+
+The reader's parts (a number, an index, a corner) are steps (jit_step, exact:
+no fastmath), typed once and inlined into _scan as IR: compiled as functions
+of their own, each with its wrapper and reference counting, they made the
+first read of a file 1.3 s slower (4.7 s against 3.5 s, median of three fresh
+processes), and reading 300,000 triangles took 0.26 s against 0.12 s.
 """
 import numpy as np
 
-from ..kernel.jit import jit_host
+from ..kernel.jit import jit_host, jit_step
 
 MAX_DIGITS = 15
 MAX_EXP10 = 22
@@ -33,12 +39,12 @@ _POW10 = np.array([10.0 ** i for i in range(MAX_EXP10 + 1)])
 OTHER, V, VT, VN, F = 0, 1, 2, 3, 4
 
 
-@jit_host
+@jit_step(exact=True)
 def _space(c):
     return c == 32 or c == 9 or c == 13
 
 
-@jit_host
+@jit_step(exact=True)
 def _kind(text, i, n):
     """(kind, position after the word) of the line that starts at i."""
     while i < n and _space(text[i]):
@@ -61,14 +67,14 @@ def _kind(text, i, n):
     return OTHER, i
 
 
-@jit_host
+@jit_step(exact=True)
 def _end(text, i, n):
     while i < n and text[i] != 10:
         i += 1
     return i
 
 
-@jit_host
+@jit_step(exact=True)
 def _stop(c):
     """Whether c ends a number or a corner: a space, or a '#' (a comment to
     the end of the line; checked here, where a word ends, rather than for
@@ -79,7 +85,7 @@ def _stop(c):
 EXACT, HARD, BAD = 0, 1, 2
 
 
-@jit_host
+@jit_step(exact=True)
 def _number(text, i, end, pow10):
     """(value, start, next position, status) of the decimal number at i
     (spaces first): EXACT, parsed here; HARD, well formed but beyond the fast
@@ -145,7 +151,7 @@ def _number(text, i, end, pow10):
 ABSENT, PRESENT, ZERO = 0, 1, 2
 
 
-@jit_host
+@jit_step(exact=True)
 def _index(text, i, end, count):
     """(0-based index, next position, ABSENT/PRESENT/ZERO) of one index of a
     corner (after it: '/', a space or the end); count: the items of its kind
@@ -168,7 +174,7 @@ def _index(text, i, end, count):
     return (count - k) if negative else (k - 1), i, PRESENT
 
 
-@jit_host
+@jit_step(exact=True)
 def _corner(text, j, end, nv, nvt, nvn):
     """((v, vt, vn), (their states), next position, ok): one corner of a
     face, -1 for an index it does not name; ok False if it is not one of the
