@@ -247,15 +247,18 @@ def _render(args):
     from .io.image import check_output_path, save_image
     from .io.progress import Spinner
     from .kernel.calls import call_awake
+    from .kernel.compile_clock import Stopwatch
     from .kernel.compile_workers import prestart
     from .scene.loader import load_scene
 
     if not (args.scheduler or args.workers):
         prestart()      # a helper process: it can compile beside this one (compile_workers)
+    loading = Stopwatch()               # the command's compiles start here
     with Spinner(not args.quiet):       # a mesh file's reader may compile first
         # In the worker thread, this one awake (kernel/calls.py): a Ctrl-C that
         # lands inside Numba's compiler can be lost or leave it half done.
         scene = call_awake(lambda: load_scene(args.scene))
+    loading_compile = loading.seconds()
     output = Path(args.output) if args.output else Path(f"{scene.name}.png")
     check_output_path(output)            # before spending minutes on the render
     layered = output.suffix.lower() in (".npy", ".exr")
@@ -271,6 +274,9 @@ def _render(args):
                         denoise=args.denoise,
                         preview=False if args.tev is None else f"tev://{args.tev}")
     stats = result.stats
+    if loading_compile > 0:             # the mesh reader's, before the render's own
+        stats.compile_seconds += loading_compile
+        stats.compiled = True
     if stats.samples == 0:
         when = "while compiling" if stats.seconds == 0 else "before the first samples"
         _leave(EXIT_INTERRUPTED, f"rtweekend: {stats.stopped_by or 'stopped'} {when}; "

@@ -226,6 +226,24 @@ def test_compile_seconds_count_the_compiles_of_packing_the_scene(monkeypatch):
     assert r.compile() >= 0.3                  # and the kernel's, compiled or loaded
 
 
+def test_the_command_counts_the_compiles_of_reading_the_scene(monkeypatch, tmp_path, capsys):
+    from rtweekend import cli
+    from rtweekend.scene import loader
+    load = loader.load_scene
+
+    def slow_load(*args, **kwargs):           # as an OBJ file's reader compiling
+        with compile_clock.waiting():
+            time.sleep(0.4)
+        return load(*args, **kwargs)
+    monkeypatch.setattr(loader, "load_scene", slow_load)
+    rt.render(rt.load_scene("cornell_box"), spp=1, width=8, height=8, sampling="mixture")
+    assert cli.main(["render", "cornell_box", "-o", str(tmp_path / "x.png"), "--spp", "1",
+                     "--width", "8", "--height", "8", "--sampling", "mixture", "-q"]) in (0, None)
+    summary = capsys.readouterr().out
+    seconds = float(re.search(r"plus ([0-9.]+) s compiling", summary).group(1))
+    assert seconds >= 0.4, summary
+
+
 # Packs `weekend` (a BVH) with a standby helper, as the command does, and lists
 # the functions compiled in this process; prints a hash of the packed arrays.
 PACK_WITH_HELPER = """
