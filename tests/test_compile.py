@@ -16,30 +16,53 @@ from rtweekend.kernel import compile_clock, compile_workers
 from rtweekend.path import renderer as renderers
 
 # cornell_box with the books' mixture and the denoiser's two passes: three
-# kernels, none calling another; a helper process compiles the denoiser's two
-# beside this one, then steps of the render's kernel (kernel/claims.py).
-# Prints a hash of the film and of the light-seen estimate, the helpers
-# started, and the seconds before the first pass against those reported.
+# kernels, none calling another.  With a helper standing by (as the command
+# starts one), the Renderer compiles them before packing the scene, typed by a
+# stand-in of its arrays; the helper compiles the denoiser's two beside this
+# one, then steps of the render's kernel (kernel/claims.py).  Prints a hash of
+# the film and of the light-seen estimate, the helpers started, the seconds
+# before the first pass against those reported, the split of the compile,
+# whether packing waited, how many compiles came after compile(), and whether
+# the arrays packed are pack_scene's.
 THREE_KERNELS = """
 import hashlib, os, time
 t0 = time.perf_counter()
 import numpy as np
+from numba.core import event
 import rtweekend as rt
 from rtweekend.kernel import compile_workers
 from rtweekend.path import seen_light
-r = rt.Renderer(rt.load_scene("cornell_box"), width=20, height=16, sampling="mixture",
-                denoise=True, threads=1)
+from rtweekend.path.pack import pack_scene
+
+compiled = []
+class Watch(event.Listener):
+    def on_start(self, ev):
+        compiled.append(ev.data["dispatcher"].py_func.__name__)
+    def on_end(self, ev):
+        pass
+event.register("numba:compile", Watch())
+
+def digest(*arrays):
+    h = hashlib.sha256()
+    for a in arrays:
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
+
+compile_workers.prestart()
+scene = rt.load_scene("cornell_box")
+r = rt.Renderer(scene, width=20, height=16, sampling="mixture", denoise=True, threads=1)
+deferred = r._frame is None
 r.compile()
 before_first_pass = time.perf_counter() - t0
+del compiled[:]
 r.add_samples(4)
 light, _ = seen_light.estimate(r.frame, np.zeros((16, 20, 3)), 4, 1000, 1)
-h = hashlib.sha256()
-for a in (*r.film, light):
-    h.update(np.ascontiguousarray(a).tobytes())
+after = len(compiled)
 share = compile_workers.SHARE
 here = share.get(os.getpid(), 0)
-print(h.hexdigest(), compile_workers.STARTED[0], before_first_pass, r.compile_seconds, here,
-      sum(share.values()) - here)
+same_arrays = digest(*r.frame.scene[:10]) == digest(*pack_scene(scene)[:10])
+print(digest(*r.film, light), compile_workers.STARTED[0], before_first_pass,
+      r.compile_seconds, here, sum(share.values()) - here, deferred, after, same_arrays)
 """
 
 
@@ -49,8 +72,9 @@ def _three_kernels(tmp_path, name, helpers):
     run = subprocess.run([sys.executable, "-c", THREE_KERNELS], env=env, capture_output=True,
                          text=True, timeout=900)
     assert run.returncode == 0, run.stderr[-2000:]
-    digest, started, before, reported, here, helpers = run.stdout.split()
-    return digest, int(started), float(before), float(reported), int(here), int(helpers)
+    digest, started, before, reported, here, helpers, *flags = run.stdout.split()
+    return (digest, int(started), float(before), float(reported), int(here), int(helpers),
+            *(f == "True" if f in ("True", "False") else int(f) for f in flags))
 
 
 @pytest.mark.skipif(not compile_workers.enabled(), reason="needs 2 CPUs and file locks")
@@ -63,7 +87,12 @@ def test_kernels_compiled_side_by_side_give_the_bits_of_kernels_compiled_here(tm
     # this process, the kernel and its other steps (kernel/claims.py).
     here, helpers = beside[4], beside[5]
     assert here >= 20 and helpers >= 2 + 20, (here, helpers)
-    for _, _, before, reported, _, _ in (alone, beside):
+    # Alone, the scene is packed first; beside a helper, after the kernels,
+    # which the stand-in typed as the render calls them (nothing compiled
+    # after compile()), the arrays packed as pack_scene packs them.
+    assert alone[6:] == (False, 0, True)
+    assert beside[6:] == (True, 0, True)
+    for _, _, before, reported, *_ in (alone, beside):
         # Every compile is counted (packing, kernels, waiting for the helpers);
         # what is not is importing and packing (a second or so, not a ratio:
         # benchmarks/compile.py measures the ratio on the default scene).
@@ -262,6 +291,9 @@ class Watch(event.Listener):
         pass
 event.register("numba:compile", Watch())
 compile_workers.prestart()
+if sys.argv[1:] == ["ahead"]:       # the builder asked of the helper first, as a Renderer does
+    from rtweekend.path import bvh_build
+    compile_workers.compile_ahead(bvh_build.compile_ahead)
 arrays = pack_scene(rt.load_scene("weekend"))
 h = hashlib.sha256()
 for a in (*arrays.wide, arrays.bvh_prims):
@@ -272,10 +304,10 @@ print(h.hexdigest(), " ".join(sorted(set(compiled))))
 
 @pytest.mark.skipif(not compile_workers.enabled(), reason="needs 2 CPUs and file locks")
 def test_the_helper_compiles_the_wide_bvh_while_this_process_compiles_the_builder(tmp_path):
-    def pack(name, helpers):
+    def pack(name, helpers, *args):
         env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / name),
                    RTWEEKEND_COMPILE_HELPERS="1" if helpers else "0")
-        run = subprocess.run([sys.executable, "-c", PACK_WITH_HELPER], env=env,
+        run = subprocess.run([sys.executable, "-c", PACK_WITH_HELPER, *args], env=env,
                              capture_output=True, text=True, timeout=600)
         assert run.returncode == 0, run.stderr[-2000:]
         digest, *compiled = run.stdout.split()
@@ -284,60 +316,11 @@ def test_the_helper_compiles_the_wide_bvh_while_this_process_compiles_the_builde
     assert {"_grow", "_collapse", "_blocks"} <= alone[1]
     assert "_grow" in beside[1] and not {"_collapse", "_count_blocks", "_blocks"} & beside[1]
     assert beside[0] == alone[0]
-
-
-# With a standby helper and kernels to compile, a Renderer compiles them
-# first, typed by a stand-in of the scene's arrays, while the helper compiles
-# the BVH builder; the scene is packed after.  Prints whether packing waited,
-# the functions this process compiled in compile() and after it, and hashes
-# of the packed arrays and of the same scene packed directly.
-KERNELS_BEFORE_PACKING = """
-import hashlib
-import numpy as np
-from numba.core import event
-import rtweekend as rt
-from rtweekend.kernel import compile_workers
-from rtweekend.path.pack import pack_scene
-
-compiled = []
-class Watch(event.Listener):
-    def on_start(self, ev):
-        compiled.append(ev.data["dispatcher"].py_func.__name__)
-    def on_end(self, ev):
-        pass
-event.register("numba:compile", Watch())
-
-def digest(arrays):
-    h = hashlib.sha256()
-    for a in (arrays.obj_f, arrays.bvh_prims, *arrays.wide):
-        h.update(np.ascontiguousarray(a).tobytes())
-    return h.hexdigest()
-
-compile_workers.prestart()
-scene = rt.load_scene("cornell_box")
-r = rt.Renderer(scene, width=16, height=16, sampling="mixture", bvh=True, threads=1)
-deferred = r._frame is None
-r.compile()
-during = sorted(set(compiled))
-del compiled[:]
-r.add_samples(1)
-print(deferred, digest(r.frame.scene), digest(pack_scene(scene, bvh=True)), len(compiled),
-      " ".join(during))
-"""
-
-
-@pytest.mark.skipif(not compile_workers.enabled(), reason="needs 2 CPUs and file locks")
-def test_the_kernels_compile_before_packing_while_the_helper_compiles_the_builder(tmp_path):
-    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "empty"))
-    run = subprocess.run([sys.executable, "-c", KERNELS_BEFORE_PACKING], env=env,
-                         capture_output=True, text=True, timeout=900)
-    assert run.returncode == 0, run.stderr[-2000:]
-    deferred, packed, direct, after, *during = run.stdout.split()
-    assert deferred == "True"
-    assert "render_pass" in during           # the kernel: here (and in the helper)
-    assert "_grow" not in during             # the builder: in the helper, loaded here
-    assert after == "0"                      # the stand-in typed the kernel the render calls
-    assert packed == direct                  # and the scene is packed as pack_scene packs it
+    # Asked ahead (a Renderer does, then compiles its kernels): the helper
+    # compiles the builder and the collapse, this process waits and loads them.
+    ahead = pack("ahead", True, "ahead")
+    assert not {"_grow", "_assemble", "_collapse", "_blocks"} & ahead[1], ahead[1]
+    assert ahead[0] == alone[0]
 
 
 def _kernel_types(frame, denoise):
