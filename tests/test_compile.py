@@ -141,17 +141,24 @@ def _children(pid):
 
 @pytest.mark.skipif(not (compile_workers.enabled() and os.path.isdir("/proc")),
                     reason="needs helpers and /proc")
-def test_ctrl_c_while_compiling_stops_the_helpers_too(tmp_path):
+@pytest.mark.parametrize("scene", [[], ["weekend"]], ids=["default", "weekend"])
+def test_ctrl_c_while_compiling_stops_the_helpers_too(tmp_path, scene):
     # The default scene needs bdpt and its photon maps' tracer: one compiles in
     # a helper.  Ctrl-C: the command leaves at once, and so does the helper.
+    # weekend has a BVH: stopped while its kernel compiles (before the scene is
+    # packed: renderer.py), the command must not pack it then, which would
+    # wait for the compile it left behind.
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "empty_cache"))
-    run = Watched([sys.executable, "-m", "rtweekend", "render", "-o", str(tmp_path / "x.png"),
-                   "--spp", "1", "--width", "8", "--height", "8"], env=env)
+    run = Watched([sys.executable, "-m", "rtweekend", "render", *scene, "-o",
+                   str(tmp_path / "x.png"), "--spp", "1", "--width", "8", "--height", "8"],
+                  env=env)
     run.wait_for(b"compiling")
     deadline = time.monotonic() + 120
     while not (helpers := _children(run.p.pid)) and time.monotonic() < deadline:
         time.sleep(0.05)
     assert helpers, "no helper process was started"
+    if scene:
+        time.sleep(2.0)                 # into the kernel's compile
     run.interrupt()
     status, _, err = run.finish(timeout=60)
     assert status == 130 and "Ctrl-C while compiling" in err

@@ -342,15 +342,19 @@ class Renderer:
     def result(self, *, spp_requested=None, interrupted=False, threads=None, stopped_by=None,
                denoise=None):
         """The RenderResult of the samples so far; denoise (None: the options')
-        adds the image denoised by Open Image Denoise (denoise.py) beside it."""
+        adds the image denoised by Open Image Denoise (denoise.py) beside it.
+        Asks nothing of the frame before a sample is rendered: a render stopped
+        while compiling may not have packed its scene, and packing would wait
+        for the compile that was left behind (kernel/calls.py)."""
         denoise = self.options.denoise if denoise is None else denoise
-        if denoise and not self.frame.aov:
+        rendered = self.spp > 0 or self.rows_done > 0
+        if denoise and not self.options.features:
             raise SceneError("result: denoise: this renderer keeps no feature images; "
                              "make it with denoise=True (or aov=...)")
         image, stderr = films.mean_and_stderr(self.film, self.spp)
         fireflies, firefly_energy = films.firefly_stats(self.film, float(image.mean()))
         row_stats = self.film.row_stats
-        clamp = self.frame.params.clamp
+        clamp = self.options.clamp_value            # as freeze packs it
         stats = RenderStats(
             width=self.width, height=self.height, spp=self.spp,
             spp_requested=spp_requested, seconds=self.seconds,
@@ -359,17 +363,18 @@ class Renderer:
             rays=int(row_stats[:, SEGMENTS].sum()), nan_dropped=int(row_stats[:, DROPPED].sum()),
             interrupted=interrupted,
             threads=threads or self.threads or numba.get_num_threads(),
-            seed=self.frame.params.seed, fireflies=fireflies, firefly_energy=firefly_energy,
+            seed=self.options.seed, fireflies=fireflies, firefly_energy=firefly_energy,
             clamp=None if math.isinf(clamp) else clamp,
             stopped_by=stopped_by if interrupted else None,
             partial_rows=self.rows_done, partial_spp=self.band, sampling=self.sampling,
             sampling_note=self.sampling_note)
         wanted = self.options.aov or ()
         samples = np.full(self.height, self.spp)
-        samples[self.frame.rows[:self.rows_done]] += self.band     # a pass over part of the rows
+        if self.rows_done:              # a pass over part of the rows
+            samples[self.frame.rows[:self.rows_done]] += self.band
         features = films.features(self.film, samples)
         denoised = None
-        if denoise:
+        if denoise and rendered:
             t0 = _time.perf_counter()
             with thread_count(self.options.threads) as threads:
                 light, _ = seen_light.estimate(self.frame, features["emission"],
