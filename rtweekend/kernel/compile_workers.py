@@ -18,8 +18,7 @@ clear error naming what it compiled.
 The standby helper (prestart) can also be asked to compile ahead
 (compile_ahead): to run a function that compiles into the cache what this
 process will need after what it is compiling now -- the BVH's builder while
-this process compiles the render's kernels, or the 4-wide collapse while it
-compiles the builder -- then to wait for its job.
+this process compiles the render's kernels -- then to wait for its job.
 """
 import atexit
 import os

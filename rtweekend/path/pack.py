@@ -175,18 +175,12 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
         wide = WideBVH(*wide_bvh.empty())
         tree = hierarchy.empty_bvh(0)
     elif bvh and len(surfaces):
-        # The builder compiled by a helper process while this one compiled
-        # the kernels (renderer.py); else, if one stands by, the 4-wide
-        # collapse by it while this one compiles the builder
-        # (kernel/compile_workers.py).
+        # The builder, if a helper process compiles it while this one compiles
+        # the kernels (renderer.py, kernel/compile_workers.py): wait for it.
         ahead = compile_workers.requested(bvh_build.compile_ahead)
         if ahead is not None:
             ahead.wait()
-        ahead = None if wide_bvh.compiled() else compile_workers.compile_ahead(
-            wide_bvh.compile_ahead)
         tree = hierarchy.build_bvh(obj_i, obj_f, ids)
-        if ahead is not None:
-            ahead.wait()
         # Walked 4-wide: the binary nodes are not kept.
         wide = WideBVH(*wide_bvh.wide_tables(obj_i, obj_f, *tree, tris.count > 0))
         tree = (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), tree[2])

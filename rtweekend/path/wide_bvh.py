@@ -87,14 +87,6 @@ def _one_leaf():
             np.zeros(1, dtype=np.int64))
 
 
-def compile_ahead():
-    """wide_tables' compiled functions, compiled (or loaded) for the types
-    pack_scene calls them with: what a helper process compiles while the
-    render's own compiles the binary tree's builder
-    (kernel/compile_workers.py compile_ahead)."""
-    wide_tables(*_one_leaf())
-
-
 def empty():
     """A WideBVH of no nodes, typed as wide_tables' (the stand-in that types a
     render's kernels before its tree is built: pack.py)."""
