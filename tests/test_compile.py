@@ -24,15 +24,12 @@ from rtweekend.path import renderer as renderers
 # before the first pass against those reported, the split of the compile,
 # whether packing waited, how many compiles came after compile(), and whether
 # the arrays packed are pack_scene's.
-THREE_KERNELS = """
-import hashlib, os, time
+# A script's first lines: t0, its start; `compiled`, the functions this process
+# compiles.
+WATCH_COMPILES = """
+import time
 t0 = time.perf_counter()
-import numpy as np
 from numba.core import event
-import rtweekend as rt
-from rtweekend.kernel import compile_workers
-from rtweekend.path import seen_light
-from rtweekend.path.pack import pack_scene
 
 compiled = []
 class Watch(event.Listener):
@@ -41,6 +38,15 @@ class Watch(event.Listener):
     def on_end(self, ev):
         pass
 event.register("numba:compile", Watch())
+"""
+
+THREE_KERNELS = WATCH_COMPILES + """
+import hashlib, os
+import numpy as np
+import rtweekend as rt
+from rtweekend.kernel import compile_workers
+from rtweekend.path import seen_light
+from rtweekend.path.pack import pack_scene
 
 def digest(*arrays):
     h = hashlib.sha256()
@@ -283,21 +289,12 @@ def test_the_command_counts_the_compiles_of_reading_the_scene(monkeypatch, tmp_p
 # Packs `weekend` (a BVH), with a standby helper asked to compile the builder
 # ahead (as a Renderer does while it compiles its kernels) or alone, and lists
 # the functions compiled in this process; prints a hash of the packed arrays.
-PACK_WITH_HELPER = """
+PACK_WITH_HELPER = WATCH_COMPILES + """
 import hashlib, sys
 import numpy as np
-from numba.core import event
 import rtweekend as rt
 from rtweekend.kernel import compile_workers
 from rtweekend.path.pack import pack_scene
-
-compiled = []
-class Watch(event.Listener):
-    def on_start(self, ev):
-        compiled.append(ev.data["dispatcher"].py_func.__name__)
-    def on_end(self, ev):
-        pass
-event.register("numba:compile", Watch())
 compile_workers.prestart()
 if sys.argv[1:] == ["ahead"]:
     from rtweekend.path import bvh_build

@@ -102,7 +102,7 @@ def compiled():
     """Is the builder compiled, in this process or in the cache (then loaded)?"""
     from . import wide_bvh
     from ..kernel.disk_cache import loaded, signature
-    obj_i, obj_f = _few_objects()
+    _, obj_f = _few_objects()
     bounds = np.zeros((1, 6))
     ids, tasks = np.zeros(1, dtype=np.int64), np.zeros((1, 4), dtype=np.int64)
     grow = (bounds, bounds, ids, 0, 1, 0, bounds, tasks[:, :3].copy(), ids, 1, tasks)

@@ -161,7 +161,11 @@ def kernel_calls(frame, film, denoise=False):
 
 def splats(frame):
     """Does the estimator of `frame` splat (its film needs the splat arrays)?"""
-    return kernel(frame).SPLATS
+    return _splats(frame.estimator)
+
+
+def _splats(estimator):
+    return ESTIMATORS[estimator].SPLATS
 
 
 def block_film(frame, s0, s1):
@@ -226,8 +230,7 @@ class Renderer:
         if options.strategy.photons and (why := photons_skipped(scene)):
             self.sampling, self.sampling_note = "bdpt+sobol", why
         self.film = films.new_film(self.height, self.width,
-                                   ESTIMATORS[options.strategy.estimator].SPLATS,
-                                   options.features)
+                                   _splats(options.strategy.estimator), options.features)
         self.spp = 0               # samples per pixel so far, in every pixel
         self.band = 0              # a pass over part of the rows in progress: its spp
         self.rows_done = 0         # ... and how many of frame.rows have them
