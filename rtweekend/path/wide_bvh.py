@@ -145,25 +145,34 @@ def _area(box, i):
 def _collapse(box, node, merge):
     n = node.shape[0]
     # each binary node's objects: bvh_prims[first[i]:first[i] + size[i]]
-    first = node[:, 0].copy()
-    size = node[:, 1].copy()
+    first = np.empty(n, dtype=np.int64)
+    size = np.empty(n, dtype=np.int64)
     for i in range(n - 1, -1, -1):
         if node[i, 1] == 0:
             first[i] = first[i + 1]
             size[i] = size[i + 1] + size[node[i, 0]]
-    leaf = (node[:, 1] > 0) | (size <= merge)
+        else:
+            first[i], size[i] = node[i, 0], node[i, 1]
+    leaf = np.empty(n, dtype=np.bool_)
+    for i in range(n):
+        leaf[i] = node[i, 1] > 0 or size[i] <= merge
+    # (Written element by element: NumPy's slice and row assignments cost
+    # seconds of compile, their shape checks' error messages most of it.)
     wide_box = np.empty((n, 6, WIDTH))
-    wide_box[:, :3, :] = np.inf
-    wide_box[:, 3:, :] = -np.inf
     wide_child = np.zeros((n, WIDTH), dtype=np.int64)
+    for i in range(n):
+        for s in range(WIDTH):
+            for r in range(3):
+                wide_box[i, r, s] = np.inf
+                wide_box[i, r + 3, s] = -np.inf
     members = np.empty(WIDTH, dtype=np.int64)
     # Depth first: (binary node, the wide node and slot waiting for its number).
     stack = np.empty((n + 1, 3), dtype=np.int64)
-    stack[0] = (0, -1, 0)
+    stack[0, 0], stack[0, 1], stack[0, 2] = 0, -1, 0
     top, count = 1, 0
     while top > 0:
         top -= 1
-        b, parent, slot = stack[top]
+        b, parent, slot = stack[top, 0], stack[top, 1], stack[top, 2]
         w = count
         count += 1
         if parent >= 0:
@@ -190,7 +199,7 @@ def _collapse(box, node, merge):
             if leaf[c]:
                 wide_child[w, s] = -1 - ((first[c] << COUNT_BITS) | size[c])
             else:
-                stack[top] = (c, w, s)
+                stack[top, 0], stack[top, 1], stack[top, 2] = c, w, s
                 top += 1
     return wide_box[:count].copy(), wide_child[:count].copy()
 
