@@ -268,6 +268,42 @@ def test_compile_seconds_count_the_compiles_of_packing_the_scene(monkeypatch):
     assert r.compile() >= 0.3                  # and the kernel's, compiled or loaded
 
 
+def test_the_cache_look_up_before_a_compile_and_its_save_after_count(monkeypatch):
+    # Numba looks a function up in the cache and saves it outside its compile
+    # event; the first look-up of a process also imports Numba's code
+    # generators (most of a second): the clock counts both, but not a hit.
+    from numba.core import caching
+
+    from rtweekend.kernel import disk_cache
+    from rtweekend.path import bvh_build
+    found = [None]
+
+    def look_up(self, sig, target_context):
+        time.sleep(0.3)
+        return found[0]
+
+    def save(self, sig, data):
+        time.sleep(0.2)
+    monkeypatch.setattr(caching.FunctionCache, "load_overload", look_up)
+    monkeypatch.setattr(caching.FunctionCache, "save_overload", save)
+    cache = bvh_build._pad_rows._cache
+    assert isinstance(cache, disk_cache.PackageCache)
+    before = compile_clock.seconds()
+    assert cache.load_overload((), None) is None
+    cache.save_overload((), None)
+    assert 0.5 <= compile_clock.seconds() - before < 1.5
+    found[0] = "a compiled result"             # a hit is a load, not a compile
+    before = compile_clock.seconds()
+    assert cache.load_overload((), None) == "a compiled result"
+    assert compile_clock.seconds() - before < 0.05
+    found[0] = None                            # inside a compile: counted once
+    before = compile_clock.seconds()
+    with compile_clock.waiting():
+        cache.load_overload((), None)
+        cache.save_overload((), None)
+    assert 0.5 <= compile_clock.seconds() - before < 0.9
+
+
 def test_the_command_counts_the_compiles_of_reading_the_scene(monkeypatch, tmp_path, capsys):
     from rtweekend import cli
     from rtweekend.scene import loader

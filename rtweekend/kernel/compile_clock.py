@@ -5,7 +5,10 @@ Numba announces every compile (not a load from the cache) with the event
 from the outermost one's start to its end, whatever started it: packing a
 scene, building a BVH, reading an OBJ file, a render kernel, the photon maps,
 the denoiser's pass.  Waiting for kernels that helper processes compile
-(kernel/compile_workers.py) counts as compiling too.  So the seconds a render
+(kernel/compile_workers.py) counts as compiling too, and so do the cache's
+look-up that finds nothing before a compile (the process's first also
+imports Numba's code generators: most of a second) and its saving of what was
+compiled after (kernel/disk_cache.py): Numba does both outside its event.  So the seconds a render
 reports as compiling are all of them, and a progress display can say
 "compiling" exactly while something compiles (io/progress.py Spinner).
 
@@ -45,6 +48,13 @@ class _Clock(event.Listener):
                 self._total += time.perf_counter() - self._since
                 self._since = None
 
+    def add_since(self, since):
+        """Count the time from `since` (perf_counter) to now, unless a compile
+        running meanwhile counts it already."""
+        with self._lock:
+            if self._depth == 0:
+                self._total += time.perf_counter() - since
+
     def seconds(self):
         """Seconds spent compiling so far (the running compile's too)."""
         with self._lock:
@@ -61,6 +71,7 @@ _CLOCK = _Clock()
 event.register("numba:compile", _CLOCK)
 seconds = _CLOCK.seconds
 running = _CLOCK.running
+add_since = _CLOCK.add_since
 
 
 @contextmanager

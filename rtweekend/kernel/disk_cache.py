@@ -22,11 +22,14 @@ import os
 import pickle
 import re
 import tempfile
+import time
 from contextlib import contextmanager
 from pathlib import Path
 
 import numba
 from numba.core import caching, config
+
+from . import compile_clock
 
 try:
     import fcntl
@@ -232,15 +235,21 @@ class PackageCache(caching.FunctionCache):
     _impl_class = impl_class(caching.CompileResultCacheImpl)
 
     def load_overload(self, sig, target_context):
+        since = time.perf_counter()
         with locked():
             try:
-                return super().load_overload(sig, target_context)
+                found = super().load_overload(sig, target_context)
             except (ImportError, AttributeError, EOFError, pickle.UnpicklingError):
-                return None           # an index naming what is not here: compile afresh
+                found = None          # an index naming what is not here: compile afresh
+        if found is None:             # a compile follows: part of its cost
+            compile_clock.add_since(since)
+        return found
 
     def save_overload(self, sig, data):
+        since = time.perf_counter()
         with locked():
             super().save_overload(sig, data)
+        compile_clock.add_since(since)
 
 
 def stale_files():
