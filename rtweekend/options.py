@@ -70,10 +70,11 @@ SAMPLINGS = {
 }
 # The default: the strategy with the lowest error at equal time, by what the
 # scene holds (benchmarks/strategies.py and accuracy.py; docs/accuracy.md).
-# Where emitters light metal or glass that is a noticeable part of the scene
-# (SPECULAR_SHARE of its surface area or more), bidirectional path tracing
-# finds the caustics and the light through glass or off mirrors that camera
-# paths find only by chance, and its caustic photon maps the caustics seen
+# Where emitters light metal or glass (delta materials: path/materials/flags.py)
+# that is a noticeable part of the scene (SPECULAR_SHARE of its surface area or
+# more), bidirectional path tracing finds the caustics and the light through
+# glass or off mirrors that camera paths find only by chance, and its caustic
+# photon maps the caustics seen
 # through glass where the lights list names what to aim them at; elsewhere it
 # pays for connections that find little new.  Measured (benchmarks/strategies.py):
 # next_week_final (0.7% metal or glass) 1.56x the mixture's error; caustic 0.56x
@@ -81,7 +82,6 @@ SAMPLINGS = {
 DEFAULT_SAMPLING = "mixture+sobol"
 SPECULAR_DEFAULT = "bdpt+sobol"
 PHOTONS_DEFAULT = "bdpt+photons"
-SPECULAR = ("metal", "dielectric")
 SPECULAR_SHARE = 0.02
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.
 PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh", "aov", "denoise", "preview")
@@ -278,11 +278,12 @@ def default_sampling(scene):
     bidirectional (SPECULAR_DEFAULT, or PHOTONS_DEFAULT where its caustic maps
     serve: photons_serve) when it has an emitter and metal or glass make up at
     least SPECULAR_SHARE of its surfaces' area, else DEFAULT_SAMPLING."""
+    from .path.materials import DELTA, EMITS, kind_has
     surfaces = [shape for shape in scene.objects if not shape.medium]
-    if not any(shape.material.kind == "diffuse_light" for shape in surfaces):
+    if not any(kind_has(shape.material.kind, EMITS) for shape in surfaces):
         return DEFAULT_SAMPLING
     total = sum(shape.area for shape in surfaces)
-    specular = sum(shape.area for shape in surfaces if shape.material.kind in SPECULAR)
+    specular = sum(shape.area for shape in surfaces if kind_has(shape.material.kind, DELTA))
     if specular < SPECULAR_SHARE * total:
         return DEFAULT_SAMPLING
     return PHOTONS_DEFAULT if photons_serve(scene) else SPECULAR_DEFAULT

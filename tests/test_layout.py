@@ -68,6 +68,28 @@ def test_every_path_material_has_a_tag():
     assert set(layout.MATERIAL_TAGS) == path_materials
 
 
+def test_no_material_kind_is_tested_outside_the_materials():
+    # Estimators ask a material's flags (path/materials/flags.py): a new kind
+    # is its module and its registration, no estimator edited.  Only layout.py
+    # (the tags) and path/materials/ name the kinds.
+    from rtweekend.path import materials
+    kinds = [name.upper() for name in layout.MATERIAL_TAGS]
+    assert set(materials.KINDS) == set(layout.MATERIAL_TAGS)
+    for name, module in materials.KINDS.items():
+        assert isinstance(module.FLAGS, int) and module.FLAGS > 0, name
+        assert materials.KIND_FLAGS[layout.MATERIAL_TAGS[name]] == module.FLAGS
+    for path in PACKAGE.rglob("*.py"):
+        rel = path.relative_to(PACKAGE).as_posix()
+        if rel.startswith("path/materials/") or rel == "path/layout.py":
+            continue
+        names = {n.id for n in ast.walk(ast.parse(path.read_text())) if isinstance(n, ast.Name)}
+        names |= {n.attr for n in ast.walk(ast.parse(path.read_text()))
+                  if isinstance(n, ast.Attribute)}
+        names |= {a.name for n in ast.walk(ast.parse(path.read_text()))
+                  if isinstance(n, ast.ImportFrom) for a in n.names}
+        assert not names & set(kinds), f"{rel} names {sorted(names & set(kinds))}"
+
+
 def test_pyproject_lists_every_subpackage():
     config = tomllib.loads((REPO / "pyproject.toml").read_text())
     listed = set(config["tool"]["setuptools"]["packages"])

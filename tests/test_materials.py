@@ -12,7 +12,7 @@ from numba import njit
 from rtweekend.kernel import sampler
 from rtweekend.kernel.vec3 import reflect
 from rtweekend.path import materials
-from rtweekend.path.layout import DIELECTRIC, LAMBERTIAN, METAL
+from rtweekend.path.layout import DIELECTRIC, LAMBERTIAN, MATERIAL_TAGS, METAL
 from rtweekend.path.materials import Bsdf, dielectric, isotropic
 
 from stats import assert_chi2
@@ -218,3 +218,35 @@ def test_a_light_emits_from_its_front_and_does_not_scatter():
     assert not materials.scatters(front) and not materials.delta(front)
     wis, weights, pdfs, _, _ = _samples(front, (0.0, 0.0, 1.0), 10, 1)
     assert (pdfs == 0).all()
+
+
+# Estimators ask what a kind is through its flags (materials/flags.py), never
+# its kind: each kind's flags must say what its own functions do.
+@pytest.mark.parametrize("name", sorted(MATERIAL_TAGS))
+def test_each_kinds_flags_say_what_its_functions_do(name):
+    from rtweekend.path.materials import DELTA, EMITS, FORKS, JOIN, MEDIUM, PHOTON
+    kind = np.int64(MATERIAL_TAGS[name])
+    for flag in (DELTA, EMITS, FORKS, JOIN, MEDIUM, PHOTON):
+        assert materials.kind_has(name, flag) == materials.has(kind, flag)
+    has = lambda flag: materials.kind_has(name, flag)  # noqa: E731
+    if has(MEDIUM):                 # a volume's phase function (media.py): no surface
+        assert name == "isotropic" and has(JOIN) and not has(DELTA | EMITS | PHOTON | FORKS)
+        return
+    param = 1.5 if name == "dielectric" else 0.0       # metal: a sharp mirror
+    n, wo = (0.0, 0.0, 1.0), _unit((0.3, -0.2, 0.9))
+    bsdf = _bsdf(kind, n, param)
+    assert materials.delta(bsdf) == has(DELTA)
+    assert materials.scatters(bsdf) == (not has(EMITS))
+    assert materials.emitted(bsdf)[0] == has(EMITS)
+    wis, _, pdfs, _, evals = _samples(bsdf, wo, 2000, 3)
+    evaluated = (evals > 0).any() and (_pdfs(bsdf, wo, wis) > 0).any()
+    assert has(JOIN) == evaluated       # a join needs f and its density
+    assert not has(PHOTON) or evaluated
+    if has(DELTA):                      # one direction, or both of branches()
+        drawn = {tuple(w) for w in wis[pdfs > 0]}
+        assert len(drawn) == (2 if has(FORKS) else 1)
+        if has(FORKS):
+            first, second, chance = materials.branches(bsdf, tuple(-c for c in wo))
+            assert drawn == {first, second} and 0.0 < chance < 1.0
+    else:
+        assert not has(FORKS)

@@ -29,8 +29,9 @@ import numpy as np
 from ..kernel import sampler
 from ..kernel.jit import jit_step
 from . import shapes
+from .materials import EMITS, objects_with
 from .surface import color_of
-from .layout import (BG_SKY, BOX, DIFFUSE_LIGHT, LIGHT_AREA, LIGHT_CDF, LIGHT_OBJ, LIGHT_PART,
+from .layout import (BG_SKY, BOX, LIGHT_AREA, LIGHT_CDF, LIGHT_OBJ, LIGHT_PART,
                      LIGHT_POWER, LIGHT_PROB, MAT_COLOR, OBJ_KIND, OBJ_MAT, RECT, SPHERE,
                      TRIANGLE)
 from .shapes import axis_rect, box, rect, sphere, triangle
@@ -56,7 +57,7 @@ def _areas(kind, row):
 def pack_lights(obj_i, obj_f, mat_i, mat_f):
     """(light_rows int64 [L, 2], light_f float64 [L, 4], light_pick float64 [N])."""
     rows, values = [], []
-    for k in np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT):
+    for k in np.flatnonzero(objects_with(obj_i, mat_i, EMITS)):
         m = obj_i[k, OBJ_MAT]
         luminance = float(LUMINANCE @ mat_f[m, MAT_COLOR:MAT_COLOR + 3])
         for part, area in _areas(obj_i[k, OBJ_KIND], obj_f[k]):

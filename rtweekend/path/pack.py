@@ -12,7 +12,8 @@ from ..errors import SceneError
 from ..kernel import compile_workers
 from ..scene.fields import SKY
 from . import bvh as hierarchy, bvh_build, mesh_light, wide_bvh
-from .layout import (BG_COLOR, BG_SKY, BOX, DIFFUSE_LIGHT, ISOTROPIC, MAT_FLOATS,
+from .materials import EMITS, KIND_FLAGS, MEDIUM, objects_with
+from .layout import (BG_COLOR, BG_SKY, BOX, MAT_FLOATS,
                      MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, OBJ_MAT, PRIMITIVE_KINDS, RECT,
                      SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles,
                      WideBVH)
@@ -113,7 +114,7 @@ def pack_features(scene, arrays):
     scene does not use it (integrators/path.py): TextureArrays, the media's object
     indices (int64), and 0 when a sphere moves."""
     textures = pack_textures(scene_materials(scene)[0])
-    media = np.flatnonzero(arrays.mat_i[arrays.obj_i[:, OBJ_MAT]] == ISOTROPIC)
+    media = np.flatnonzero(objects_with(arrays.obj_i, arrays.mat_i, MEDIUM))
     motion = 0 if any(shape.moving for shape in scene.objects) else None
     return textures, (media.astype(np.int64) if len(media) else None), motion
 
@@ -168,7 +169,7 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
     mat_f = np.array([(*mt.color, mt.param) for mt in materials], dtype=np.float64)
     lights = np.array([first[id(s)] for s in scene.lights], dtype=np.int64)
     bg_kind, bg = pack_background(scene.resolved_background())
-    surfaces = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] != ISOTROPIC)
+    surfaces = np.flatnonzero(~objects_with(obj_i, mat_i, MEDIUM))
     ids = None if len(surfaces) == len(obj_i) else surfaces
     wide = None
     if bvh and len(surfaces) and stand_in:
@@ -186,7 +187,7 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
         tree = (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), tree[2])
     else:
         tree = hierarchy.empty_bvh(len(obj_i), ids)
-    emitters = np.flatnonzero(mat_i[obj_i[:, OBJ_MAT]] == DIFFUSE_LIGHT).astype(np.int64)
+    emitters = np.flatnonzero(objects_with(obj_i, mat_i, EMITS)).astype(np.int64)
     mat_f = mat_f.reshape(-1, MAT_FLOATS)
     mesh_lights = [(first[id(s)], s.primitives) for s in scene.lights if s.kind == "mesh"]
     return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
@@ -262,7 +263,7 @@ def dark_sides(arrays):
     (pdf.mixture_weight).  Attractors (lights that do not emit) do not count."""
     sides = []
     for k in arrays.lights:
-        if arrays.mat_i[arrays.obj_i[k, OBJ_MAT]] != DIFFUSE_LIGHT:
+        if not KIND_FLAGS[arrays.mat_i[arrays.obj_i[k, OBJ_MAT]]] & EMITS:
             continue
         kind, row = arrays.obj_i[k, 0], arrays.obj_f[k]
         if kind in AXIS_KINDS:

@@ -56,9 +56,9 @@ from ..kernel.vec3 import add, mul, neg, scale
 from . import materials, media as volumes, shapes
 from .bvh import closest_hit
 from .camera import get_ray_at
-from .layout import DIELECTRIC, NO_HIT
+from .layout import NO_HIT
 from .lights import background
-from .materials import dielectric
+from .materials import FORKS
 from .surface import surface_at
 
 SPREAD = 0.02           # a pixel varies when its pilot rays differ by more, relatively
@@ -133,8 +133,8 @@ def light_seen(scene, params, x, y, jx, jy, smp, stack_f, stack_i, textures, med
                 if emits:
                     total = add(total, mul(beta, e))
             elif depth + 1 < params.max_depth:
-                if bsdf.kind == DIELECTRIC and splits < stack_f.shape[0]:
-                    r, tr, reflectance = dielectric.branches(d, bsdf.n, bsdf.front, bsdf.param)
+                if materials.has(bsdf.kind, FORKS) and splits < stack_f.shape[0]:
+                    r, tr, reflectance = materials.branches(bsdf, d)
                     beta = mul(beta, bsdf.albedo)
                     d = r
                     if reflectance < 1.0:

@@ -37,12 +37,13 @@ from ...kernel import sampler
 from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, dot, mul, neg, scale
-from .. import camera, lights, media as volumes, shapes
+from .. import camera, lights, materials, media as volumes, shapes
 from .. import film as films
 from ..bvh import unoccluded
 from ..film import SEGMENTS
-from ..layout import DIFFUSE_LIGHT, NO_HIT
+from ..layout import NO_HIT
 from ..lights import background
+from ..materials import EMITS
 from . import mis, photons
 from .subpaths import camera_subpath, light_subpath
 from .vertices import (BACK, BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, NS, OBJ, P,
@@ -224,7 +225,7 @@ def first_seen(scene, cf, ci, n, escaped, d, beta):
             facing = dot(col(cf, i, NG), towards) > 0.0
             if not facing:
                 normal = neg(normal)
-            if ci[i, MKIND] == DIFFUSE_LIGHT:
+            if materials.has(ci[i, MKIND], EMITS):
                 light = mul(col(cf, i, BETA), c) if facing else ZERO
                 c = at_most(c, 1.0) if facing else ZERO
                 return mul(col(cf, i, BETA), c), normal, light
@@ -245,7 +246,7 @@ def camera_strategies(scene, params, cf, ci, lf, li, nc, nl, textures, media, ti
     has_lights = scene.light_f.shape[0] > 0
     for t in range(2, nc + 1):
         pt = t - 1
-        if ci[pt, TYPE] == SURFACE and ci[pt, MKIND] == DIFFUSE_LIGHT:
+        if ci[pt, TYPE] == SURFACE and materials.has(ci[pt, MKIND], EMITS):
             if caustics is not None:
                 if photons.covered(scene, cf, ci, z, t):
                     continue

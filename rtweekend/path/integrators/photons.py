@@ -50,7 +50,8 @@ from ...kernel.vec3 import dot, neg
 from .. import lights, materials, mesh_light, pdf, shapes
 from ..bvh import closest_hit
 from ..bvh_build import object_bounds
-from ..layout import LAMBERTIAN, NO_HIT
+from ..layout import NO_HIT
+from ..materials import PHOTON
 from ..surface import surface_at
 from .vertices import BETA, COLOR, DELTA, MKIND, NG, NS, OBJ, P, SURFACE, TYPE, WO, col
 
@@ -203,7 +204,7 @@ def trace_photon(scene, params, out_f, out_i, n, textures, smp):
         hit = surface_at(scene, textures, kh, o, d, t, None)
         bsdf = materials.at(scene, hit)
         if not materials.delta(bsdf):
-            if bsdf.kind == LAMBERTIAN and segments >= 2:
+            if materials.has(bsdf.kind, PHOTON) and segments >= 2:
                 for c3 in range(3):
                     out_f[n, POS + c3] = hit.p[c3]
                     out_f[n, FLUX + c3] = flux[c3]
@@ -284,7 +285,7 @@ def seen_through(ci, nc):
     and it is lambertian; else -1."""
     for i in range(1, nc):
         if ci[i, DELTA] == 0:
-            if i >= 2 and ci[i, TYPE] == SURFACE and ci[i, MKIND] == LAMBERTIAN:
+            if i >= 2 and ci[i, TYPE] == SURFACE and materials.has(ci[i, MKIND], PHOTON):
                 return i
             return -1
     return -1

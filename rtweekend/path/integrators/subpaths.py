@@ -26,7 +26,7 @@ from ...kernel.jit import jit_step
 from ...kernel.vec3 import madd, mul, neg, scale
 from .. import camera, lights, materials, media as volumes, shapes
 from ..bvh import closest_hit
-from ..layout import DIFFUSE_LIGHT, ISOTROPIC, LAMBERTIAN, NO_HIT
+from ..layout import NO_HIT
 from ..materials import isotropic, lambertian
 from ..roulette import roulette
 from ..surface import color_of, surface_at
@@ -43,19 +43,6 @@ def set_reverse(vf, i, pdf):
     """Vertex i's REV: its area density as drawn with solid-angle density pdf
     from vertex i + 1 (whose BACK converts it)."""
     vf[i, REV] = pdf * vf[i + 1, BACK]
-
-
-@jit_step
-def bounce(bsdf, wo, smp):
-    """materials.sample, a lambertian's direction drawn by
-    lambertian.cosine_lobe (no libm call)."""
-    if bsdf.kind == LAMBERTIAN:
-        u1, u2, smp = sampler.next_2d(smp)
-        wi = lambertian.cosine_lobe(bsdf.n, u1, u2)
-        if materials.behind(bsdf, wi):
-            return wi, bsdf.albedo, 0.0, False, smp     # absorbed (materials.behind)
-        return wi, bsdf.albedo, lambertian.pdf(bsdf.n, wi), False, smp
-    return materials.sample(bsdf, wo, smp)
 
 
 @jit_step(inline=False)
@@ -75,7 +62,8 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
             if medium != NO_HIT:            # scattered in a medium, at no surface
                 p = madd(o, d, tm)
                 albedo = color_of(scene, textures, medium, p, np.int64(NO_HIT), time)
-                put(vf, vi, n, MEDIUM, p, ZERO, ZERO, beta, albedo, 0.0, NO_HIT, ISOTROPIC,
+                put(vf, vi, n, MEDIUM, p, ZERO, ZERO, beta, albedo, 0.0, NO_HIT,
+                    materials.kind_of(scene, medium),
                     False, pdf_dir)
                 n += 1
                 if n >= limit:
@@ -102,7 +90,7 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
         if n >= limit or not materials.scatters(bsdf):
             break
         wo = neg(d)
-        d, weight, density, delta, smp = bounce(bsdf, wo, smp)
+        d, weight, density, delta, smp = materials.sample_by_turns(bsdf, wo, smp)
         if density == 0.0:
             break                               # absorbed
         if delta:
@@ -139,7 +127,8 @@ def camera_subpath(scene, params, vf, vi, x, y, textures, media, time, smp):
 def light_subpath(scene, params, vf, vi, textures, media, time, smp):
     """The light subpath of a sample: (vertices, segments, smp)."""
     k, p, n, emit, origin, smp = lights.light_point(scene, textures, time, smp)
-    put(vf, vi, 0, LIGHT, p, n, n, scale(emit, 1.0 / origin), emit, 0.0, k, DIFFUSE_LIGHT, False,
+    put(vf, vi, 0, LIGHT, p, n, n, scale(emit, 1.0 / origin), emit, 0.0, k,
+        materials.kind_of(scene, k), False,
         origin)
     u1, u2, smp = sampler.next_2d(smp)
     d = lambertian.cosine_lobe(n, u1, u2)     # density cos / pi: Le cos / pdf = Le pi

@@ -52,8 +52,7 @@ import math
 from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot
 from .. import camera, materials
-from ..layout import DIFFUSE_LIGHT
-from ..materials import Bsdf, isotropic
+from ..materials import JOIN, Bsdf, isotropic
 
 # Columns of vf.
 P, NG, BETA, COLOR, PARAM, FWD, REV, ACC, WO, BACK, NS = 0, 3, 6, 9, 12, 13, 14, 15, 16, 19, 20
@@ -119,7 +118,7 @@ def connectible(vi, i):
     at a surface that only emits (it scatters nothing)."""
     if vi[i, TYPE] != SURFACE:
         return True
-    return vi[i, DELTA] == 0 and vi[i, MKIND] != DIFFUSE_LIGHT
+    return vi[i, DELTA] == 0 and materials.has(vi[i, MKIND], JOIN)
 
 
 @jit_step

@@ -4,20 +4,24 @@ mat_i[m] = kind; mat_f[m] = colour (MAT_COLOR, 0:3), parameter (MAT_PARAM)
   LAMBERTIAN    colour = albedo                          lambertian.py
   METAL         colour = albedo, parameter = fuzz        metal.py
   DIELECTRIC    parameter = index of refraction          dielectric.py
-  DIFFUSE_LIGHT colour = emitted radiance, front face only; it does not scatter
+  DIFFUSE_LIGHT colour = emitted radiance, front face only  diffuse_light.py
   ISOTROPIC     a constant medium's phase function       isotropic.py (media.py)
 
 An estimator makes the material's record at a hit once, `bsdf = at(scene,
 hit)` (its kind, colour there, parameter and shading normal: no array is read
-after that), and asks it, never its kind:
+after that), and asks it, never its kind; what a kind is (delta, emits, may be
+joined, keeps photons, forks, a medium's) it asks as has(bsdf.kind, flag),
+each kind's module declaring its FLAGS (flags.py):
 
   emitted(bsdf)                  -> (emits, radiance)
   scatters(bsdf), delta(bsdf)    does it scatter; is it sampled only
   sample(bsdf, wo, smp)          -> (wi, weight, pdf, delta, smp)
+     sample_by_turns              the same, the lobe by kernel/trig.py (bdpt's)
      sample_at(bsdf, u1, u2)     -> (wi, weight, pdf): a smooth one, for a given point
      sample_delta(bsdf, wo, smp)  the delta ones
   eval(bsdf, wo, wi, scale)      -> (attenuation, scattering)
   pdf(bsdf, wo, wi)              -> density of wi (solid angle)
+  branches(bsdf, d)              -> both directions of one that FORKS
   adjoint(bsdf, wo, wi)          -> factor on sample's weight for a light subpath
   shading_adjoint(bsdf, wo, wi)  -> its part due to a shading normal (also on
                                     a light subpath's connections)
@@ -51,11 +55,45 @@ import numpy as np
 from ...kernel import sampler
 from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot
-from ..layout import DIELECTRIC, DIFFUSE_LIGHT, LAMBERTIAN, MAT_COLOR, MAT_PARAM, METAL
-from . import dielectric, lambertian, metal
+from ..layout import (DIELECTRIC, DIFFUSE_LIGHT, LAMBERTIAN, MAT_COLOR, MAT_PARAM,
+                      MATERIAL_TAGS, METAL, OBJ_MAT)
+from . import dielectric, diffuse_light, isotropic, lambertian, metal
+from .flags import DELTA, EMITS, JOIN, MEDIUM, PHOTON, FORKS  # noqa: F401  (for has)
+
+# Each kind's flags (flags.py), by its tag: what estimators ask through has().
+KINDS = {"lambertian": lambertian, "metal": metal, "dielectric": dielectric,
+         "diffuse_light": diffuse_light, "isotropic": isotropic}
+KIND_FLAGS = np.zeros(len(MATERIAL_TAGS), dtype=np.int64)
+for _name, _module in KINDS.items():
+    KIND_FLAGS[MATERIAL_TAGS[_name]] = _module.FLAGS
 
 NO_COLOR = (0.0, 0.0, 0.0)
 NO_DIRECTION = (0.0, 0.0, 0.0)
+
+
+@jit_step
+def has(kind, flag):
+    """Is `flag` (flags.py) one of material kind `kind`'s?  The question an
+    estimator asks of a hit's material (bsdf.kind) or a vertex's."""
+    return (KIND_FLAGS[kind] & flag) != 0
+
+
+@jit_step
+def kind_of(scene, k):
+    """The kind of object k's material."""
+    return scene.mat_i[scene.obj_i[k, OBJ_MAT]]
+
+
+def objects_with(obj_i, mat_i, flag):
+    """Which packed objects' materials have `flag` (a bool per row of obj_i)."""
+    return (KIND_FLAGS[mat_i[obj_i[:, OBJ_MAT]]] & flag) != 0
+
+
+def kind_has(name, flag):
+    """has() for a scene's material kind by its name ("metal"); False for a
+    name the path tracer has no tag for (the classic tracer's)."""
+    tag = MATERIAL_TAGS.get(name)
+    return tag is not None and bool(KIND_FLAGS[tag] & flag)
 
 
 class Bsdf(NamedTuple):
@@ -139,6 +177,29 @@ def sample_delta(bsdf, wo, smp):
             1.0, True, smp
     # Not a delta material: no direction.
     return NO_DIRECTION, NO_COLOR, 0.0, True, smp
+
+
+@jit_step
+def sample_by_turns(bsdf, wo, smp):
+    """sample(), but a lambertian's direction drawn by
+    lambertian.cosine_lobe (kernel/trig.py's cosine and sine: no libm call;
+    bidirectional path tracing's draws, bit for bit its own)."""
+    if bsdf.kind == LAMBERTIAN:
+        u1, u2, smp = sampler.next_2d(smp)
+        wi = lambertian.cosine_lobe(bsdf.n, u1, u2)
+        if behind(bsdf, wi):
+            return wi, bsdf.albedo, 0.0, False, smp     # absorbed (behind)
+        return wi, bsdf.albedo, lambertian.pdf(bsdf.n, wi), False, smp
+    return sample(bsdf, wo, smp)
+
+
+@jit_step
+def branches(bsdf, d):
+    """The two directions of a material that FORKS (flags.py), for a ray along
+    d: (first, second, the chance sample_delta takes the first); a dielectric's
+    reflection and refraction (under total internal reflection both are the
+    reflection, chance 1)."""
+    return dielectric.branches(d, bsdf.n, bsdf.front, bsdf.param)
 
 
 @jit_step

@@ -8,6 +8,9 @@ import math
 
 from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot, reflect, refract
+from .flags import DELTA, FORKS
+
+FLAGS = DELTA | FORKS
 
 
 @jit_step

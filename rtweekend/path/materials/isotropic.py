@@ -4,6 +4,9 @@ import math
 
 from ...kernel import rng
 from ...kernel.jit import jit_step
+from .flags import JOIN, MEDIUM
+
+FLAGS = JOIN | MEDIUM
 
 INV_4PI = 1.0 / (4.0 * math.pi)
 

@@ -14,6 +14,9 @@ import math
 from ...kernel.jit import jit_step
 from ...kernel.trig import cos_sin_turns
 from ...kernel.vec3 import dot, local, onb
+from .flags import JOIN, PHOTON
+
+FLAGS = JOIN | PHOTON
 
 INV_PI = 1.0 / math.pi
 TWO_PI = 2.0 * math.pi

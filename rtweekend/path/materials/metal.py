@@ -9,6 +9,9 @@ and pdf are 0 for it (materials.py).  With fuzz = 0 it is an ideal mirror.
 from ...kernel import rng
 from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot, madd, reflect, unit
+from .flags import DELTA
+
+FLAGS = DELTA
 
 
 @jit_step

@@ -1,0 +1,5 @@
+"""The books' diffuse_light: emits its colour (the radiance) from its front
+side, scatters nothing (materials.emitted)."""
+from .flags import EMITS
+
+FLAGS = EMITS
