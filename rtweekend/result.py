@@ -149,7 +149,7 @@ class RenderResult:
         """The image of save_image(self, "x.png"), tonemap(self.image), as PNG
         bytes compressed fast (a preview sends one twice a second)."""
         import imageio.v3 as iio
-        from .io.image import tonemap
+        from .io.tonemap import tonemap
         return iio.imwrite("<bytes>", tonemap(self.image), extension=".png", compress_level=1)
 
     def _repr_html_(self):

@@ -333,8 +333,8 @@ from rtweekend.kernel import compile_workers
 from rtweekend.path.pack import pack_scene
 compile_workers.prestart()
 if sys.argv[1:] == ["ahead"]:
-    from rtweekend.path import bvh_build
-    compile_workers.compile_ahead(bvh_build.compile_ahead)
+    from rtweekend.path import wide_bvh
+    compile_workers.compile_ahead(wide_bvh.compile_ahead)
 arrays = pack_scene(rt.load_scene("weekend"))
 h = hashlib.sha256()
 for a in (*arrays.wide, arrays.bvh_prims):

@@ -90,6 +90,48 @@ def test_no_material_kind_is_tested_outside_the_materials():
         assert not names & set(kinds), f"{rel} names {sorted(names & set(kinds))}"
 
 
+def _module_graph():
+    """{module: the package's modules it imports} (at the top or in a function;
+    `from PKG import name` is PKG.name where that is a module, else PKG)."""
+    paths = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+        paths[".".join(parts[:-1] if parts[-1] == "__init__" else parts)] = path
+    graph = {}
+    for name, path in paths.items():
+        here = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        found = set()
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Import):
+                found |= {a.name for a in node.names}
+            elif isinstance(node, ast.ImportFrom):
+                base = here[:len(here) - node.level + 1] if node.level else []
+                module = ".".join(base + ([node.module] if node.module else []))
+                found |= {f"{module}.{a.name}" if f"{module}.{a.name}" in paths else module
+                          for a in node.names}
+        graph[name] = {m for m in found if m in paths and m != name}
+    return graph
+
+
+def test_no_module_imports_one_that_imports_it_back():
+    # Layers import downwards: a cycle, even through an import inside a
+    # function, means one of the two modules is in the wrong place.
+    graph, state, cycles = _module_graph(), {}, []
+
+    def visit(module, trail):
+        state[module] = "open"
+        for other in sorted(graph[module]):
+            if state.get(other) == "open":
+                cycles.append(trail[trail.index(other):] + [module, other])
+            elif other not in state:
+                visit(other, trail + [module])
+        state[module] = "done"
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [])
+    assert not cycles, [" -> ".join(c) for c in cycles]
+
+
 def test_pyproject_lists_every_subpackage():
     config = tomllib.loads((REPO / "pyproject.toml").read_text())
     listed = set(config["tool"]["setuptools"]["packages"])

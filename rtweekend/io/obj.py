@@ -335,9 +335,9 @@ def _builder_ahead():
     one reads the file (compiling the reader) and compiles the kernels
     (kernel/compile_workers.py, path/renderer.py)."""
     from ..kernel import compile_workers
-    from ..path import bvh_build
-    if compile_workers.standing_by() and not bvh_build.compiled():
-        compile_workers.compile_ahead(bvh_build.compile_ahead, needed=False)
+    from ..path import wide_bvh
+    if compile_workers.standing_by() and not wide_bvh.compiled():
+        compile_workers.compile_ahead(wide_bvh.compile_ahead, needed=False)
 
 
 def read(path, fits=None):

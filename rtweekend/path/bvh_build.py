@@ -96,19 +96,8 @@ def _few_objects():
     return obj_i, obj_f
 
 
-def compile_ahead():
-    """The builder's and the 4-wide collapse's compiled functions, compiled
-    (or loaded) for pack_scene's types: what a helper process compiles while
-    the render's own process compiles its kernels (kernel/compile_workers.py
-    compile_ahead; pack.py waits for it before building)."""
-    from . import wide_bvh
-    obj_i, obj_f = _few_objects()
-    wide_bvh.wide_tables(obj_i, obj_f, *build_bvh(obj_i, obj_f))
-
-
 def compiled():
     """Is the builder compiled, in this process or in the cache (then loaded)?"""
-    from . import wide_bvh
     from ..kernel.disk_cache import loaded, signature
     _, obj_f = _few_objects()
     bounds = np.zeros((1, 6))
@@ -116,7 +105,7 @@ def compiled():
     grow = (bounds, bounds, ids, 0, 1, 0, bounds, tasks[:, :3].copy(), ids, 1, tasks)
     return (loaded(_triangle_bounds, signature((obj_f, ids, bounds)))
             and loaded(_pad_rows, signature((bounds, ids)))
-            and loaded(_grow, signature(grow)) and wide_bvh.compiled())
+            and loaded(_grow, signature(grow)))
 
 
 def build_bvh(obj_i, obj_f, ids=None):

@@ -11,7 +11,7 @@ import numpy as np
 from ..errors import SceneError
 from ..kernel import compile_workers
 from ..scene.fields import SKY
-from . import bvh as hierarchy, bvh_build, mesh_light, wide_bvh
+from . import bvh as hierarchy, mesh_light, wide_bvh
 from .materials import EMITS, KIND_FLAGS, MEDIUM, objects_with
 from .layout import (BG_COLOR, BG_SKY, BOX, MAT_FLOATS,
                      MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, OBJ_MAT, PRIMITIVE_KINDS, RECT,
@@ -178,7 +178,7 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
     elif bvh and len(surfaces):
         # The builder, if a helper process compiles it while this one compiles
         # the kernels (renderer.py, kernel/compile_workers.py): wait for it.
-        ahead = compile_workers.requested(bvh_build.compile_ahead)
+        ahead = compile_workers.requested(wide_bvh.compile_ahead)
         if ahead is not None:
             ahead.wait()
         tree = hierarchy.build_bvh(obj_i, obj_f, ids)

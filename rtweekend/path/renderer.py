@@ -33,7 +33,7 @@ from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
 from .integrators import ESTIMATORS, photons
 from .layout import BG_COLOR, Features, PathParams, SceneArrays
-from . import bvh_build, pack
+from . import pack, wide_bvh
 from .pack import dark_sides, pack_features, pack_scene, scene_bytes
 
 
@@ -247,8 +247,8 @@ class Renderer:
         with collector_paused(), thread_count(self.options.threads):
             if self._stand_in is not None:
                 if pack.hierarchy_wanted(self._scene, self.options.bvh) \
-                        and not bvh_build.compiled():
-                    compile_workers.compile_ahead(bvh_build.compile_ahead)
+                        and not wide_bvh.compiled():
+                    compile_workers.compile_ahead(wide_bvh.compile_ahead)
                 compile_workers.compile_all(self._stand_in)
                 self._stand_in = None
             compile_workers.compile_all(kernel_calls(self.frame, self.film,

@@ -51,7 +51,7 @@ from ..kernel.disk_cache import loaded, signature
 from ..kernel.jit import jit_host, jit_step, like
 from ..kernel.stack import stack_array
 from ..kernel.vec3 import reciprocal
-from . import shapes
+from . import bvh_build, shapes
 from .bvh_build import MEDIAN_FROM_DEPTH
 from .layout import NO_HIT, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, TRIANGLE
 from .shapes import triangle
@@ -94,10 +94,21 @@ def empty():
             np.zeros(0, dtype=np.int64), np.zeros((0, 9, WIDTH)))
 
 
+def compile_ahead():
+    """The builder's (bvh_build.py) and the 4-wide collapse's compiled
+    functions, compiled (or loaded) for pack_scene's types: what a helper
+    process compiles while the render's own process compiles its kernels
+    (kernel/compile_workers.py compile_ahead; pack.py waits for it before
+    building)."""
+    obj_i, obj_f = bvh_build._few_objects()
+    wide_tables(obj_i, obj_f, *bvh_build.build_bvh(obj_i, obj_f))
+
+
 def compiled():
-    """Is the collapse compiled, in this process or in the cache (then loaded)?"""
+    """Are the builder and the collapse compiled, in this process or in the
+    cache (then loaded)?"""
     _, _, box, node, _ = _one_leaf()
-    return loaded(_collapse, signature((box, node, MERGE)))
+    return bvh_build.compiled() and loaded(_collapse, signature((box, node, MERGE)))
 
 
 @jit_host
