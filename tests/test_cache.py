@@ -211,7 +211,7 @@ def test_every_step_is_inlined_into_the_kernel(compiled_then_loaded):
 
 def test_a_step_called_from_python_runs_through_a_compiled_entry():
     from rtweekend.kernel.vec3 import dot
-    from rtweekend.path.materials.lambertian import pdf
-    assert pdf((0.0, 0.0, 1.0), (0.0, 0.6, 0.8)) == 0.8 / math.pi
-    assert pdf((0.0, 0.0, 1.0), (0.0, 0.6, -0.8)) == 0.0
+    from rtweekend.path.materials.lambertian import cosine_pdf
+    assert cosine_pdf((0.0, 0.0, 1.0), (0.0, 0.6, 0.8)) == 0.8 / math.pi
+    assert cosine_pdf((0.0, 0.0, 1.0), (0.0, 0.6, -0.8)) == 0.0
     assert dot((1.0, 2.0, 3.0), (4.0, 5.0, 6.0)) == 32.0

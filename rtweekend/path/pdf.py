@@ -85,7 +85,7 @@ def lights_value(scene, p, d, from_obj, from_inside, time):
 # -- the mixture at a smooth hit (The Rest of Your Life, chapter "Mixing") ---------
 
 @jit_step
-def mixture_sample(scene, bsdf, p, light_weight, use_lights, smp, time):
+def mixture_sample(scene, bsdf, wo, p, light_weight, use_lights, smp, time):
     """(direction, weight, smp): a direction from (1 - w) material + w lights
     (w = light_weight, 0 without use_lights), and the material's weight when
     its component drew it.
@@ -118,7 +118,7 @@ def mixture_sample(scene, bsdf, p, light_weight, use_lights, smp, time):
         k = lights[min(int(pick * lights.shape[0]), lights.shape[0] - 1)]
         w, state = toward_light(scene, k, p, smp.state, time)
         return w, materials.NO_COLOR, sampler.resume(smp, state)
-    wi, weight, _ = materials.sample_at(bsdf, v1, v2)
+    wi, weight, _ = materials.sample_at(bsdf, wo, v1, v2)
     return wi, weight, smp
 
 

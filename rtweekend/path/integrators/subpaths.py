@@ -137,6 +137,6 @@ def light_subpath(scene, params, vf, vi, textures, media, time, smp):
     if not start > 0.0 or params.max_depth < 2:
         return 1, 0, smp
     vertices, _, _, _, segments, smp = walk(
-        scene, vf, vi, 1, p, d, beta, lambertian.pdf(n, d), k, shapes.enters(scene, k, n, d),
+        scene, vf, vi, 1, p, d, beta, lambertian.cosine_pdf(n, d), k, shapes.enters(scene, k, n, d),
         params.max_depth, start, True, textures, media, time, smp)
     return vertices, segments, smp

@@ -17,7 +17,7 @@ each kind's module declaring its FLAGS (flags.py):
   scatters(bsdf), delta(bsdf)    does it scatter; is it sampled only
   sample(bsdf, wo, smp)          -> (wi, weight, pdf, delta, smp)
      sample_by_turns              the same, the lobe by kernel/trig.py (bdpt's)
-     sample_at(bsdf, u1, u2)     -> (wi, weight, pdf): a smooth one, for a given point
+     sample_at(bsdf, wo, u1, u2) -> (wi, weight, pdf): a smooth one, for a given point
      sample_delta(bsdf, wo, smp)  the delta ones
   eval(bsdf, wo, wi, scale)      -> (attenuation, scattering)
   pdf(bsdf, wo, wi)              -> density of wi (solid angle)
@@ -158,7 +158,7 @@ def sample(bsdf, wo, smp):
     if delta(bsdf):
         return sample_delta(bsdf, wo, smp)
     u1, u2, smp = sampler.next_2d(smp)
-    wi, weight, p = sample_at(bsdf, u1, u2)
+    wi, weight, p = sample_at(bsdf, wo, u1, u2)
     return wi, weight, p, False, smp
 
 
@@ -189,7 +189,7 @@ def sample_by_turns(bsdf, wo, smp):
         wi = lambertian.cosine_lobe(bsdf.n, u1, u2)
         if behind(bsdf, wi):
             return wi, bsdf.albedo, 0.0, False, smp     # absorbed (behind)
-        return wi, bsdf.albedo, lambertian.pdf(bsdf.n, wi), False, smp
+        return wi, bsdf.albedo, lambertian.cosine_pdf(bsdf.n, wi), False, smp
     return sample(bsdf, wo, smp)
 
 
@@ -252,11 +252,11 @@ def shading_adjoint(bsdf, wo, wi):
 
 
 @jit_step
-def sample_at(bsdf, u1, u2):
+def sample_at(bsdf, wo, u1, u2):
     """(wi, weight, pdf) of a smooth material's sampling for the 2-D point
     (u1, u2) (the mixture's share of it: pdf.py); delta materials have none."""
     if bsdf.kind == LAMBERTIAN:
-        wi, weight, p = lambertian.sample_at(bsdf.albedo, bsdf.n, u1, u2)
+        wi, weight, p = lambertian.sample(bsdf, wo, u1, u2)
         if behind(bsdf, wi):
             return wi, NO_COLOR, 0.0            # absorbed, as pdf says
         return wi, weight, p
@@ -270,7 +270,7 @@ def eval(bsdf, wo, wi, scale):
     if bsdf.kind == LAMBERTIAN:
         if behind(bsdf, wi):
             return bsdf.albedo, 0.0
-        return lambertian.eval_scaled(bsdf.albedo, bsdf.n, wi, scale)
+        return lambertian.eval(bsdf, wo, wi, scale)
     return NO_COLOR, 0.0
 
 
@@ -281,5 +281,5 @@ def pdf(bsdf, wo, wi):
     if bsdf.kind == LAMBERTIAN:
         if behind(bsdf, wi):
             return 0.0
-        return lambertian.pdf(bsdf.n, wi)
+        return lambertian.pdf(bsdf, wo, wi)
     return 0.0

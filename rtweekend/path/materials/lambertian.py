@@ -1,7 +1,7 @@
 """The lambertian (ideal diffuse) material: f = albedo / pi on the side the
 light comes from, sampled by the cosine lobe.
 
-Every function takes the shading normal n on the side of wo (Surface.n: the
+Every function takes the shading normal n (the Bsdf's) on the side of wo (Surface.n: the
 books' set_face_normal turns it towards the incoming ray), which is how the
 books make the material two-sided.  The density of the cosine lobe is the
 books' scattering_pdf, cos(theta) / pi, so f |cos| = albedo x scattering_pdf and
@@ -47,25 +47,32 @@ def cosine_lobe(n, u1, u2):
 
 
 @jit_step
-def pdf(n, wi):
-    """scattering_pdf: cos(theta_i) / pi above the surface, else 0."""
+def cosine_pdf(n, wi):
+    """scattering_pdf: cos(theta_i) / pi above the surface, else 0 (also a
+    diffuse light's density of emitting along wi: integrators/subpaths.py)."""
     c = dot(n, wi)
     return c * INV_PI if c > 0.0 else 0.0
 
 
 @jit_step
-def eval_scaled(albedo, n, wi, scale):
+def eval(bsdf, wo, wi, scale):
     """(albedo, scale x scattering_pdf): their product is scale x f |cos theta_i|.
     `scale` is multiplied in before 1/pi (see materials.eval)."""
-    c = dot(n, wi)
+    c = dot(bsdf.n, wi)
     if c > 0.0:
-        return albedo, scale * c * INV_PI
-    return albedo, 0.0
+        return bsdf.albedo, scale * c * INV_PI
+    return bsdf.albedo, 0.0
 
 
 @jit_step
-def sample_at(albedo, n, u1, u2):
+def pdf(bsdf, wo, wi):
+    """The cosine lobe's density of wi (wo does not matter)."""
+    return cosine_pdf(bsdf.n, wi)
+
+
+@jit_step
+def sample(bsdf, wo, u1, u2):
     """(wi, weight, pdf) of the cosine lobe for the point (u1, u2): weight =
     f |cos| / pdf = albedo."""
-    wi = cosine_at(n, u1, u2)
-    return wi, albedo, pdf(n, wi)
+    wi = cosine_at(bsdf.n, u1, u2)
+    return wi, bsdf.albedo, cosine_pdf(bsdf.n, wi)
