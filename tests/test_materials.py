@@ -29,7 +29,7 @@ def _unit(v):
 
 
 def _bsdf(kind, n, param=0.0, front=True):
-    return Bsdf(np.int64(kind), ALBEDO, float(param), _unit(n), front, _unit(n))
+    return Bsdf(np.int64(kind), ALBEDO, (float(param), 0.0), _unit(n), front, _unit(n))
 
 
 def _frame(n):
@@ -72,9 +72,9 @@ def _isotropic(count, seed):
     return out
 
 
-def _chi2_against(dirs, n, density):
-    """Chi-square of directions binned on an equal-area (cos theta, phi) grid
-    about n, against N x the integral of density(directions) over each bin
+def _binned(dirs, n, density):
+    """(observed counts, probabilities) of directions binned on an equal-area
+    (cos theta, phi) grid about n: each bin's integral of density(directions)
     (one jittered point per sub-cell)."""
     frame = _frame(n)
     local = dirs @ frame.T
@@ -90,20 +90,58 @@ def _chi2_against(dirs, n, density):
     grid = np.stack([s * np.cos(p), s * np.sin(p), c], -1).reshape(-1, 3) @ frame
     d_omega = 4 * math.pi / (COS_BINS * SUB * PHI_BINS * SUB)
     per_bin = density(np.ascontiguousarray(grid)).reshape(COS_BINS, SUB, PHI_BINS, SUB)
-    expected = len(dirs) * per_bin.sum(axis=(1, 3)).ravel() * d_omega
+    return observed, per_bin.sum(axis=(1, 3)).ravel() * d_omega
+
+
+def _chi2_against(dirs, n, density, absorbed=0):
+    """Chi-square of directions about n against density; `absorbed` draws gave
+    none, against the share of probability the density leaves out."""
+    observed, prob = _binned(dirs, n, density)
+    expected = (len(dirs) + absorbed) * prob
     keep = expected > 20                # pool the bins with few expected samples
-    assert_chi2(np.append(observed[keep], observed[~keep].sum()),
-                np.append(expected[keep], expected[~keep].sum()))
+    observed = np.append(observed[keep], [observed[~keep].sum(), absorbed])
+    expected = np.append(expected[keep], [expected[~keep].sum(),
+                                          (len(dirs) + absorbed) * max(0.0, 1 - prob.sum())])
+    assert_chi2(observed, expected)
 
 
+# The chi-square adapter: every smooth material (sampled, evaluated: not delta,
+# not a light, not a medium's) with the parameters to test it with -- one line
+# per kind.  Its draws must follow its pdf (chi-square), each drawn pdf be what
+# pdf() says, and each weight be eval / pdf, for wo from the normal to grazing,
+# on either side of the surface (front: a rough glass's two media).
+SMOOTH = {"lambertian": [()]}
+WOS = [(0.0, 0.0, 1.0), (0.6, 0.3, 0.74), (0.97, 0.0, 0.2)]
+
+
+def _smooth_cases():
+    return [(name, params) for name, cases in SMOOTH.items() for params in cases]
+
+
+def test_the_adapter_has_every_smooth_material():
+    from rtweekend.path.materials import DELTA, EMITS, MEDIUM
+    smooth = {name for name in MATERIAL_TAGS
+              if not materials.kind_has(name, DELTA | EMITS | MEDIUM)}
+    assert set(SMOOTH) == smooth
+
+
+@pytest.mark.parametrize("front", [True, False])
+@pytest.mark.parametrize("wo", WOS)
 @pytest.mark.parametrize("n", NORMALS)
-def test_lambertian_samples_follow_its_pdf(n):
-    bsdf, wo = _bsdf(LAMBERTIAN, n), _unit(np.add(n, (0.3, 0.2, 0.1)))
+@pytest.mark.parametrize("name, params", _smooth_cases())
+def test_a_smooth_material_draws_by_its_pdf_with_weight_eval_over_pdf(name, params, n, wo,
+                                                                     front):
+    frame = _frame(_unit(n))
+    wo = _unit(np.asarray(wo) @ frame)          # wo about this normal
+    padded = (*map(float, params), *(0.0,) * (2 - len(params)))
+    bsdf = Bsdf(np.int64(MATERIAL_TAGS[name]), ALBEDO, padded, _unit(n), front, _unit(n))
     wis, weights, pdfs, deltas, evals = _samples(bsdf, wo, N_SAMPLES, 3)
-    assert not deltas.any() and (pdfs > 0).all()
-    np.testing.assert_allclose(np.linalg.norm(wis, axis=1), 1.0, rtol=1e-12)
-    np.testing.assert_allclose(pdfs, _pdfs(bsdf, wo, wis), rtol=1e-12)
-    _chi2_against(wis, bsdf.n, lambda d: _pdfs(bsdf, wo, d))
+    assert not deltas.any()
+    drawn = pdfs > 0
+    np.testing.assert_allclose(np.linalg.norm(wis[drawn], axis=1), 1.0, rtol=1e-12)
+    np.testing.assert_allclose(pdfs[drawn], _pdfs(bsdf, wo, wis[drawn]), rtol=1e-9)
+    np.testing.assert_allclose(weights[drawn], evals[drawn] / pdfs[drawn, None], rtol=1e-9)
+    _chi2_against(wis[drawn], bsdf.n, lambda d: _pdfs(bsdf, wo, d), absorbed=int((~drawn).sum()))
 
 
 @pytest.mark.parametrize("n", NORMALS)

@@ -67,8 +67,9 @@ OBJ_INTS = 2
 OBJ_FLOATS = 20
 # mat_f
 MAT_COLOR = 0        # 0:3 albedo, or emitted radiance
-MAT_PARAM = 3        # metal: fuzz; dielectric: index of refraction; isotropic: density
-MAT_FLOATS = 4
+MAT_PARAMS = 3       # 3:5 the kind's parameters, named by its module (materials/)
+N_PARAMS = 2
+MAT_FLOATS = MAT_PARAMS + N_PARAMS
 
 
 class SceneArrays(NamedTuple):
@@ -76,7 +77,7 @@ class SceneArrays(NamedTuple):
     obj_i: np.ndarray      # int64 [N, OBJ_INTS]: kind, material
     obj_f: np.ndarray      # float64 [N, OBJ_FLOATS]
     mat_i: np.ndarray      # int64 [M]: kind
-    mat_f: np.ndarray      # float64 [M, MAT_FLOATS]: colour, parameter
+    mat_f: np.ndarray      # float64 [M, MAT_FLOATS]: colour, parameters
     lights: np.ndarray     # int64 [L]: object indices the light pdf samples
     dark_sides: np.ndarray  # float64 [D, 4]: where the lights give nothing (pack.py)
     emitters: np.ndarray   # int64 [E]: objects whose material emits (next-event targets)

@@ -29,13 +29,13 @@ import numpy as np
 from ..kernel import sampler
 from ..kernel.jit import jit_step
 from . import pdf, shapes
-from .layout import MAT_PARAM, NO_HIT, OBJ_MAT
+from .layout import MAT_PARAMS, NO_HIT, OBJ_MAT
 from .materials import isotropic
 
 
 @jit_step
 def density(scene, k):
-    return scene.mat_f[scene.obj_i[k, OBJ_MAT], MAT_PARAM]
+    return scene.mat_f[scene.obj_i[k, OBJ_MAT], MAT_PARAMS + isotropic.DENSITY]
 
 
 @jit_step

@@ -12,8 +12,8 @@ from ..errors import SceneError
 from ..kernel import compile_workers
 from ..scene.fields import SKY
 from . import bvh as hierarchy, mesh_light, wide_bvh
-from .materials import EMITS, KIND_FLAGS, MEDIUM, objects_with
-from .layout import (BG_COLOR, BG_SKY, BOX, MAT_FLOATS,
+from .materials import EMITS, KIND_FLAGS, KINDS, MEDIUM, objects_with
+from .layout import (BG_COLOR, BG_SKY, BOX, MAT_FLOATS, N_PARAMS,
                      MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, OBJ_MAT, PRIMITIVE_KINDS, RECT,
                      SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles,
                      WideBVH)
@@ -166,7 +166,7 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
         obj_i[count:count + n, OBJ_MAT] = mat_index[id(shape.material)]
         count += n
     mat_i = np.array([MATERIAL_TAGS[mt.kind] for mt in materials], dtype=np.int64)
-    mat_f = np.array([(*mt.color, mt.param) for mt in materials], dtype=np.float64)
+    mat_f = np.array([(*mt.color, *_params(mt)) for mt in materials], dtype=np.float64)
     lights = np.array([first[id(s)] for s in scene.lights], dtype=np.int64)
     bg_kind, bg = pack_background(scene.resolved_background())
     surfaces = np.flatnonzero(~objects_with(obj_i, mat_i, MEDIUM))
@@ -193,6 +193,14 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
     return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
                        *pack_lights(obj_i, obj_f, mat_i, mat_f), bg_kind, bg, *tree,
                        tris.arrays(obj_f, mesh_lights), wide)
+
+
+def _params(material):
+    """A material's parameter columns, as its kind's module packs them (padded
+    to N_PARAMS)."""
+    values = KINDS[material.kind].params(material)
+    assert len(values) <= N_PARAMS
+    return (*map(float, values), *(0.0,) * (N_PARAMS - len(values)))
 
 
 def _one_triangle_each(scene):

@@ -62,7 +62,7 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
             if medium != NO_HIT:            # scattered in a medium, at no surface
                 p = madd(o, d, tm)
                 albedo = color_of(scene, textures, medium, p, np.int64(NO_HIT), time)
-                put(vf, vi, n, MEDIUM, p, ZERO, ZERO, beta, albedo, 0.0, NO_HIT,
+                put(vf, vi, n, MEDIUM, p, ZERO, ZERO, beta, albedo, materials.NO_PARAMS, NO_HIT,
                     materials.kind_of(scene, medium),
                     False, pdf_dir)
                 n += 1
@@ -84,7 +84,7 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
         hit = surface_at(scene, textures, k, o, d, t, time)
         bsdf = materials.at(scene, hit)
         ns = hit.n if hit.front else neg(hit.n)        # the shading normal, outward
-        put(vf, vi, n, SURFACE, hit.p, hit.n_out, ns, beta, hit.albedo, bsdf.param, k,
+        put(vf, vi, n, SURFACE, hit.p, hit.n_out, ns, beta, hit.albedo, bsdf.params, k,
             bsdf.kind, materials.delta(bsdf), pdf_dir)
         n += 1
         if n >= limit or not materials.scatters(bsdf):
@@ -117,7 +117,8 @@ def camera_subpath(scene, params, vf, vi, x, y, textures, media, time, smp):
     """The camera subpath of a sample of pixel (x, y): (vertices, escaped, d,
     beta, segments, smp) as walk returns them."""
     o, d, smp = camera.sample_ray(params.cam, x, y, params.width, params.height, smp)
-    put(vf, vi, 0, CAMERA, o, ZERO, ZERO, ONE, ZERO, 0.0, NO_HIT, 0, False, 1.0)
+    put(vf, vi, 0, CAMERA, o, ZERO, ZERO, ONE, ZERO, materials.NO_PARAMS, NO_HIT, 0, False,
+        1.0)
     return walk(scene, vf, vi, 1, o, d, ONE, camera.pdf_direction(params.cam, d),
                 np.int64(NO_HIT), np.bool_(False), params.max_depth + 1, 1.0, False, textures,
                 media, time, smp)
@@ -127,7 +128,7 @@ def camera_subpath(scene, params, vf, vi, x, y, textures, media, time, smp):
 def light_subpath(scene, params, vf, vi, textures, media, time, smp):
     """The light subpath of a sample: (vertices, segments, smp)."""
     k, p, n, emit, origin, smp = lights.light_point(scene, textures, time, smp)
-    put(vf, vi, 0, LIGHT, p, n, n, scale(emit, 1.0 / origin), emit, 0.0, k,
+    put(vf, vi, 0, LIGHT, p, n, n, scale(emit, 1.0 / origin), emit, materials.NO_PARAMS, k,
         materials.kind_of(scene, k), False,
         origin)
     u1, u2, smp = sampler.next_2d(smp)

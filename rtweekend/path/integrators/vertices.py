@@ -10,7 +10,7 @@ Row i of `vf` (floats) and `vi` (integers) is vertex i:
   BETA   the subpath's throughput up     DELTA  1: a delta material (metal, glass):
          to it (as pbrt's beta)                 sampled, never connected
   COLOR  its albedo there (a light's emitted radiance)
-  PARAM  the material's parameter
+  PARAMS its material's parameters (materials.Bsdf.params)
   FWD    the area density of this vertex as its own subpath drew it
   REV    the area density of it drawn the other way, from the next vertex (MIS)
          (a delta vertex drawn from a smooth one: per projected solid angle, below)
@@ -55,8 +55,8 @@ from .. import camera, materials
 from ..materials import JOIN, Bsdf, isotropic
 
 # Columns of vf.
-P, NG, BETA, COLOR, PARAM, FWD, REV, ACC, WO, BACK, NS = 0, 3, 6, 9, 12, 13, 14, 15, 16, 19, 20
-NF = 23
+P, NG, BETA, COLOR, PARAMS, FWD, REV, ACC, WO, BACK, NS = 0, 3, 6, 9, 12, 14, 15, 16, 17, 20, 21
+NF = 24
 # Columns of vi.
 TYPE, OBJ, MKIND, DELTA = 0, 1, 2, 3
 NI = 4
@@ -67,7 +67,7 @@ ZERO = (0.0, 0.0, 0.0)
 
 
 @jit_step
-def put(vf, vi, i, kind, p, n, ns, beta, color, param, obj, mkind, delta, density):
+def put(vf, vi, i, kind, p, n, ns, beta, color, params, obj, mkind, delta, density):
     """Write vertex i, and its WO and BACK towards vertex i - 1 (its REV is set
     later, when the next vertex is drawn).  n, ns: its geometric and shading
     normals (outward); density: vertex 0's area density, or the solid-angle
@@ -91,7 +91,7 @@ def put(vf, vi, i, kind, p, n, ns, beta, color, param, obj, mkind, delta, densit
         vf[i, BETA + c] = beta[c]
         vf[i, COLOR + c] = color[c]
         vf[i, WO + c] = wo[c]
-    vf[i, PARAM] = param
+    vf[i, PARAMS], vf[i, PARAMS + 1] = params            # (layout.N_PARAMS of them)
     vf[i, FWD] = fwd
     vf[i, REV] = 0.0
     vf[i, BACK] = back
@@ -136,7 +136,8 @@ def bsdf_facing(vf, vi, i, wo):
     front = dot(wo, ng) > 0.0
     if not front:
         ng, n = (-ng[0], -ng[1], -ng[2]), (-n[0], -n[1], -n[2])
-    return Bsdf(vi[i, MKIND], col(vf, i, COLOR), vf[i, PARAM], n, front, ng)
+    return Bsdf(vi[i, MKIND], col(vf, i, COLOR), (vf[i, PARAMS], vf[i, PARAMS + 1]), n, front,
+                ng)
 
 
 @jit_step

@@ -1,11 +1,13 @@
 """Materials: what a surface emits, and how it scatters, evaluated and sampled.
 
-mat_i[m] = kind; mat_f[m] = colour (MAT_COLOR, 0:3), parameter (MAT_PARAM)
+mat_i[m] = kind; mat_f[m] = colour (MAT_COLOR, 0:3), parameters (MAT_PARAMS,
+N_PARAMS of them: Bsdf.params), each kind's named by its module
   LAMBERTIAN    colour = albedo                          lambertian.py
-  METAL         colour = albedo, parameter = fuzz        metal.py
-  DIELECTRIC    parameter = index of refraction          dielectric.py
+  METAL         colour = albedo, FUZZ                    metal.py
+  DIELECTRIC    IOR (index of refraction)                dielectric.py
   DIFFUSE_LIGHT colour = emitted radiance, front face only  diffuse_light.py
-  ISOTROPIC     a constant medium's phase function       isotropic.py (media.py)
+  ISOTROPIC     colour = albedo, DENSITY: a constant medium's phase function
+                                                         isotropic.py (media.py)
 
 An estimator makes the material's record at a hit once, `bsdf = at(scene,
 hit)` (its kind, colour there, parameter and shading normal: no array is read
@@ -55,8 +57,8 @@ import numpy as np
 from ...kernel import sampler
 from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot
-from ..layout import (DIELECTRIC, DIFFUSE_LIGHT, LAMBERTIAN, MAT_COLOR, MAT_PARAM,
-                      MATERIAL_TAGS, METAL, OBJ_MAT)
+from ..layout import (DIELECTRIC, DIFFUSE_LIGHT, LAMBERTIAN, MAT_COLOR, MAT_PARAMS,
+                      MATERIAL_TAGS, METAL, N_PARAMS, OBJ_MAT)
 from . import dielectric, diffuse_light, isotropic, lambertian, metal
 from .flags import DELTA, EMITS, JOIN, MEDIUM, PHOTON, FORKS  # noqa: F401  (for has)
 
@@ -69,6 +71,7 @@ for _name, _module in KINDS.items():
 
 NO_COLOR = (0.0, 0.0, 0.0)
 NO_DIRECTION = (0.0, 0.0, 0.0)
+NO_PARAMS = (0.0,) * N_PARAMS
 
 
 @jit_step
@@ -100,7 +103,7 @@ class Bsdf(NamedTuple):
     """A material at one hit: what its functions read."""
     kind: np.int64         # LAMBERTIAN, METAL, ... (layout.py)
     albedo: tuple          # its colour there (emitted radiance for a light)
-    param: float           # fuzz, index of refraction
+    params: tuple          # N_PARAMS floats: the kind's parameters (its module names them)
     n: tuple               # the shading normal, on the incoming ray's side
     front: bool            # the ray met the front side
     ng: tuple              # the geometric normal, on the incoming ray's side
@@ -119,7 +122,13 @@ def at(scene, hit):
     """The Bsdf of the surface record `hit` (surface.py)."""
     m = hit.mat
     ng = hit.n_out if hit.front else (-hit.n_out[0], -hit.n_out[1], -hit.n_out[2])
-    return Bsdf(scene.mat_i[m], hit.albedo, scene.mat_f[m, MAT_PARAM], hit.n, hit.front, ng)
+    return Bsdf(scene.mat_i[m], hit.albedo, params(scene.mat_f, m), hit.n, hit.front, ng)
+
+
+@jit_step
+def params(mat_f, m):
+    """Material m's parameters (Bsdf.params)."""
+    return (mat_f[m, MAT_PARAMS], mat_f[m, MAT_PARAMS + 1])
 
 
 @jit_step
@@ -134,7 +143,7 @@ def emitted(bsdf):
 def emitted_by(scene, m, front, color):
     """emitted() of material m with colour `color` at a point seen from its front
     side or not (a point sampled on a light: no whole record needed)."""
-    return emitted(Bsdf(scene.mat_i[m], color, 0.0, NO_DIRECTION, front, NO_DIRECTION))
+    return emitted(Bsdf(scene.mat_i[m], color, NO_PARAMS, NO_DIRECTION, front, NO_DIRECTION))
 
 
 @jit_step
@@ -169,11 +178,12 @@ def sample_delta(bsdf, wo, smp):
     where the books absorb it)."""
     d = (-wo[0], -wo[1], -wo[2])
     if bsdf.kind == METAL:
-        wi, ok, state = metal.scatter(d, bsdf.n, bsdf.param, smp.state)
+        wi, ok, state = metal.scatter(d, bsdf.n, bsdf.params[metal.FUZZ], smp.state)
         return wi, bsdf.albedo, 1.0 if ok else 0.0, True, sampler.resume(smp, state)
     if bsdf.kind == DIELECTRIC:
         u, smp = sampler.uniform(smp)
-        return dielectric.scatter_at(d, bsdf.n, bsdf.front, bsdf.param, u), bsdf.albedo, \
+        return dielectric.scatter_at(d, bsdf.n, bsdf.front, bsdf.params[dielectric.IOR], u), \
+            bsdf.albedo, \
             1.0, True, smp
     # Not a delta material: no direction.
     return NO_DIRECTION, NO_COLOR, 0.0, True, smp
@@ -199,7 +209,7 @@ def branches(bsdf, d):
     d: (first, second, the chance sample_delta takes the first); a dielectric's
     reflection and refraction (under total internal reflection both are the
     reflection, chance 1)."""
-    return dielectric.branches(d, bsdf.n, bsdf.front, bsdf.param)
+    return dielectric.branches(d, bsdf.n, bsdf.front, bsdf.params[dielectric.IOR])
 
 
 @jit_step
@@ -212,7 +222,7 @@ def adjoint(bsdf, wo, wi):
     a = 1.0
     if bsdf.kind == DIELECTRIC and dot(wi, bsdf.n) < 0.0:    # through the surface
         a = dielectric.adjoint_weight(dot(wo, bsdf.n), -dot(wi, bsdf.n), bsdf.front,
-                                      bsdf.param)
+                                      bsdf.params[dielectric.IOR])
     return a * shading_adjoint(bsdf, wo, wi)
 
 

@@ -11,6 +11,12 @@ from ...kernel.vec3 import dot, reflect, refract
 from .flags import DELTA, FORKS
 
 FLAGS = DELTA | FORKS
+IOR = 0             # its parameter (Bsdf.params): the index of refraction
+
+
+def params(material):
+    """Its parameters, as packed (scene/materials.py's Material)."""
+    return (material.param,)
 
 
 @jit_step

@@ -3,3 +3,8 @@ side, scatters nothing (materials.emitted)."""
 from .flags import EMITS
 
 FLAGS = EMITS
+
+
+def params(material):
+    """No parameters: its colour is the emitted radiance."""
+    return ()

@@ -7,6 +7,12 @@ from ...kernel.jit import jit_step
 from .flags import JOIN, MEDIUM
 
 FLAGS = JOIN | MEDIUM
+DENSITY = 0         # its parameter: the medium's density (media.py)
+
+
+def params(material):
+    """Its parameters, as packed (scene/materials.py's Material)."""
+    return (material.param,)
 
 INV_4PI = 1.0 / (4.0 * math.pi)
 

@@ -18,6 +18,11 @@ from .flags import JOIN, PHOTON
 
 FLAGS = JOIN | PHOTON
 
+
+def params(material):
+    """No parameters: its colour is all."""
+    return ()
+
 INV_PI = 1.0 / math.pi
 TWO_PI = 2.0 * math.pi
 

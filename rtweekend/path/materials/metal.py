@@ -12,6 +12,12 @@ from ...kernel.vec3 import dot, madd, reflect, unit
 from .flags import DELTA
 
 FLAGS = DELTA
+FUZZ = 0            # its parameter (Bsdf.params)
+
+
+def params(material):
+    """Its parameters, as packed (scene/materials.py's Material)."""
+    return (material.param,)
 
 
 @jit_step
