@@ -7,7 +7,7 @@ import tomllib
 import pytest
 from conftest import REPO
 
-from rtweekend.path import layout, shapes
+from rtweekend.path import layout, materials, shapes
 from rtweekend.scene.materials import CLASSIC_MATERIALS, MATERIALS, MEDIUM_MATERIALS
 
 # The sources in this checkout (the tests may run against an installed copy).
@@ -65,22 +65,20 @@ def test_every_primitive_kind_has_its_module_and_every_operation():
 
 def test_every_path_material_has_a_tag():
     path_materials = set(MATERIALS) - set(CLASSIC_MATERIALS) | set(MEDIUM_MATERIALS)
-    assert set(layout.MATERIAL_TAGS) == path_materials
+    assert set(materials.MATERIAL_TAGS) == path_materials
 
 
 def test_no_material_kind_is_tested_outside_the_materials():
     # Estimators ask a material's flags (path/materials/flags.py): a new kind
-    # is its module and its registration, no estimator edited.  Only layout.py
-    # (the tags) and path/materials/ name the kinds.
-    from rtweekend.path import materials
-    kinds = [name.upper() for name in layout.MATERIAL_TAGS]
-    assert set(materials.KINDS) == set(layout.MATERIAL_TAGS)
+    # is its module and its registration, no estimator edited.  Only
+    # path/materials/ names the kinds.
+    kinds = [name.upper() for name in materials.MATERIAL_TAGS]
     for name, module in materials.KINDS.items():
         assert isinstance(module.FLAGS, int) and module.FLAGS > 0, name
-        assert materials.KIND_FLAGS[layout.MATERIAL_TAGS[name]] == module.FLAGS
+        assert materials.KIND_FLAGS[materials.MATERIAL_TAGS[name]] == module.FLAGS
     for path in PACKAGE.rglob("*.py"):
         rel = path.relative_to(PACKAGE).as_posix()
-        if rel.startswith("path/materials/") or rel == "path/layout.py":
+        if rel.startswith("path/materials/"):
             continue
         names = {n.id for n in ast.walk(ast.parse(path.read_text())) if isinstance(n, ast.Name)}
         names |= {n.attr for n in ast.walk(ast.parse(path.read_text()))

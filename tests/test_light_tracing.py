@@ -13,7 +13,8 @@ from rtweekend.errors import SceneError
 from rtweekend.path import film as films
 from rtweekend.path.bvh import closest_hit
 from rtweekend.path.camera import get_ray_at
-from rtweekend.path.layout import LAMBERTIAN, NO_HIT, OBJ_MAT
+from rtweekend.path.layout import NO_HIT, OBJ_MAT
+from rtweekend.path.materials import LAMBERTIAN
 from rtweekend.path.renderer import Renderer
 from splits import assert_same_bits_for_threads_and_splits
 from stats import block_se, blocks

@@ -12,7 +12,7 @@ from numba import njit
 from rtweekend.kernel import sampler
 from rtweekend.kernel.vec3 import reflect
 from rtweekend.path import materials
-from rtweekend.path.layout import DIELECTRIC, LAMBERTIAN, MATERIAL_TAGS, METAL
+from rtweekend.path.materials import DIELECTRIC, LAMBERTIAN, MATERIAL_TAGS, METAL
 from rtweekend.path.materials import Bsdf, dielectric, isotropic
 
 from stats import assert_chi2
@@ -249,7 +249,7 @@ def test_isotropic_phase_is_uniform_over_the_sphere():
 
 
 def test_a_light_emits_from_its_front_and_does_not_scatter():
-    from rtweekend.path.layout import DIFFUSE_LIGHT
+    from rtweekend.path.materials import DIFFUSE_LIGHT
     front, back = _bsdf(DIFFUSE_LIGHT, (0, 0, 1)), _bsdf(DIFFUSE_LIGHT, (0, 0, 1), front=False)
     assert materials.emitted(front) == (True, ALBEDO)
     assert materials.emitted(back) == (False, (0.0, 0.0, 0.0))

@@ -14,7 +14,8 @@ from numba import njit
 import rtweekend as rt
 from rtweekend.kernel import sampler
 from rtweekend.path import pdf
-from rtweekend.path.layout import LAMBERTIAN, NO_HIT
+from rtweekend.path.layout import NO_HIT
+from rtweekend.path.materials import LAMBERTIAN
 from rtweekend.path.materials import Bsdf
 from rtweekend.path.pack import pack_scene
 

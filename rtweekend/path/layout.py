@@ -32,14 +32,7 @@ BOX = 5              # a box turned and moved: one slab test
 TRIANGLE = 6         # a mesh's face (shapes/triangle.py; the mesh tables: Triangles)
 PRIMITIVE_KINDS = (SPHERE, RECT, XY_RECT, XZ_RECT, YZ_RECT, BOX, TRIANGLE)
 
-# Material kinds (mat_i), by the description's names; materials.py dispatches on them.
-LAMBERTIAN = 0
-METAL = 1
-DIELECTRIC = 2
-DIFFUSE_LIGHT = 3
-ISOTROPIC = 4        # a constant medium's phase function (media.py): never hit
-MATERIAL_TAGS = {"lambertian": LAMBERTIAN, "metal": METAL, "dielectric": DIELECTRIC,
-                 "diffuse_light": DIFFUSE_LIGHT, "isotropic": ISOTROPIC}
+# Material kinds (mat_i): their tags are path/materials/'s (MATERIAL_TAGS).
 
 # Background kinds.
 BG_COLOR = 0

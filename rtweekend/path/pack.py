@@ -12,9 +12,9 @@ from ..errors import SceneError
 from ..kernel import compile_workers
 from ..scene.fields import SKY
 from . import bvh as hierarchy, mesh_light, wide_bvh
-from .materials import EMITS, KIND_FLAGS, KINDS, MEDIUM, objects_with
+from .materials import EMITS, KIND_FLAGS, KINDS, MATERIAL_TAGS, MEDIUM, objects_with
 from .layout import (BG_COLOR, BG_SKY, BOX, MAT_FLOATS, N_PARAMS,
-                     MATERIAL_TAGS, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, OBJ_MAT, PRIMITIVE_KINDS, RECT,
+                     OBJ_FLOATS, OBJ_INTS, OBJ_KIND, OBJ_MAT, PRIMITIVE_KINDS, RECT,
                      SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles,
                      WideBVH)
 from .shapes import axis_rect, box, rect, sphere, triangle

@@ -57,17 +57,19 @@ import numpy as np
 from ...kernel import sampler
 from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot
-from ..layout import (DIELECTRIC, DIFFUSE_LIGHT, LAMBERTIAN, MAT_COLOR, MAT_PARAMS,
-                      MATERIAL_TAGS, METAL, N_PARAMS, OBJ_MAT)
+from ..layout import MAT_COLOR, MAT_PARAMS, N_PARAMS, OBJ_MAT
 from . import dielectric, diffuse_light, isotropic, lambertian, metal
 from .flags import DELTA, EMITS, JOIN, MEDIUM, PHOTON, FORKS  # noqa: F401  (for has)
 
-# Each kind's flags (flags.py), by its tag: what estimators ask through has().
+# The kinds by the description's names (scene/materials.py), each its module;
+# a kind's tag (mat_i) is its place here.
 KINDS = {"lambertian": lambertian, "metal": metal, "dielectric": dielectric,
          "diffuse_light": diffuse_light, "isotropic": isotropic}
-KIND_FLAGS = np.zeros(len(MATERIAL_TAGS), dtype=np.int64)
-for _name, _module in KINDS.items():
-    KIND_FLAGS[MATERIAL_TAGS[_name]] = _module.FLAGS
+MATERIAL_TAGS = {name: tag for tag, name in enumerate(KINDS)}
+LAMBERTIAN, METAL, DIELECTRIC = (MATERIAL_TAGS[k] for k in ("lambertian", "metal", "dielectric"))
+DIFFUSE_LIGHT, ISOTROPIC = MATERIAL_TAGS["diffuse_light"], MATERIAL_TAGS["isotropic"]
+# Each kind's flags (flags.py), by its tag: what estimators ask through has().
+KIND_FLAGS = np.array([module.FLAGS for module in KINDS.values()], dtype=np.int64)
 
 NO_COLOR = (0.0, 0.0, 0.0)
 NO_DIRECTION = (0.0, 0.0, 0.0)
