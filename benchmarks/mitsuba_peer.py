@@ -162,6 +162,10 @@ def _bsdf(m):
                                              "specular_reflectance": _rgb(m.color)}}
     if m.kind == "dielectric":
         return {"type": "schlick_dielectric", "eta": float(m.param)}
+    if m.kind == "rough_conductor":    # GGX, Smith's separable G, visible normals
+        return {"type": "twosided", "bsdf": {
+            "type": "roughconductor", "material": "none", "distribution": "ggx",
+            "alpha": float(m.alpha), "specular_reflectance": _rgb(m.color)}}
     if m.kind == "diffuse_light":      # emits (see mitsuba_dict); absorbs whatever hits it
         return {"type": "diffuse", "reflectance": _rgb((0, 0, 0))}
     raise NotImplementedError(f"material {m.kind!r}")

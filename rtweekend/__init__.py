@@ -20,9 +20,11 @@ from .path.renderer import Renderer
 from .result import RenderResult, RenderStats
 from .version import version as _version
 from .scene import (SKY, Camera, ClassicCamera, Scene, ambient, box, bundled_scenes,
-                    checker_texture, constant_medium, dielectric, diffuse_light, directional,
-                    image_texture, isotropic, lambertian, load_scene, metal, noise_texture,
-                    mesh, phong, point, quad, solid_color, sphere, xy_rect, xz_rect, yz_rect)
+                    checker_texture, constant_medium, directional, image_texture, load_scene,
+                    noise_texture, mesh, point, quad, solid_color, sphere, xy_rect, xz_rect,
+                    yz_rect)
+from .scene import materials as _materials
+from .scene.materials import *  # noqa: F403  (every material's builder)
 
 __version__ = _version()
 
@@ -30,11 +32,10 @@ __all__ = [
     "SceneError", "OutputError", "SceneWarning", "load_scene", "bundled_scenes",
     "save_image", "tonemap",
     "render", "Renderer", "RenderResult", "RenderStats", "Scene", "Camera", "SKY",
-    "lambertian", "metal", "dielectric", "diffuse_light",
     "sphere", "xy_rect", "xz_rect", "yz_rect", "box", "quad", "mesh", "constant_medium",
-    "isotropic",
     "solid_color", "checker_texture", "noise_texture", "image_texture",
-    "phong", "ambient", "point", "directional", "ClassicCamera",
+    "ambient", "point", "directional", "ClassicCamera",
+    *(name for name in _materials.__all__ if name != "Material"),
 ]
 
 

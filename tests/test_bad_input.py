@@ -131,6 +131,14 @@ BAD_SCENES = [
      ["materials.glass (dielectric)", "ior: must be > 0"]),
     (_edit('white = {', 'm = { type = "metal", albedo = [1, 1, 1], fuzz = -0.1 }\nwhite = {'),
      ["materials.m (metal)", "fuzz: must be >= 0"]),
+    (_edit('white = {', 'm = { type = "rough_conductor", albedo = [1, 1, 1], alpha = 0 }\n'
+                        'white = {'),
+     ["materials.m (rough_conductor)", "alpha: must be > 0"]),
+    (_edit('white = {', 'm = { type = "rough_conductor", albedo = [1, 1, 1], alpha = 1.5 }\n'
+                        'white = {'),
+     ["materials.m (rough_conductor)", "alpha: must be <= 1"]),
+    (_edit('white = {', 'm = { type = "rough_conductor", albedo = [1, 1, 1] }\nwhite = {'),
+     ["materials.m (rough_conductor)", "alpha"]),
     (_edit('width = 8', 'width = 0'), ["camera", "width: must be >= 1"]),
     (_edit('height = 8', 'height = -3'), ["camera", "height: must be >= 1"]),
     (_edit('spp = 2', 'spp = 0'), ["render", "spp: must be >= 1"]),
@@ -271,7 +279,7 @@ VALUES = st.recursive(
                                              "metal", "white", "lamp", "ball"]),
     lambda inner: st.lists(inner, max_size=4) | st.dictionaries(
         st.sampled_from(["type", "albedo", "center", "radius", "material", "name", "x0",
-                         "x1", "z0", "z1", "k", "p0", "p1", "emit", "fuzz", "ior",
+                         "x1", "z0", "z1", "k", "p0", "p1", "emit", "fuzz", "ior", "alpha",
                          "rotate", "rotate_y", "translate", "flip_face"]), inner,
                         max_size=6),
     max_leaves=12)

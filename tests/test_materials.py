@@ -29,7 +29,7 @@ def _unit(v):
 
 
 def _bsdf(kind, n, param=0.0, front=True):
-    return Bsdf(np.int64(kind), ALBEDO, (float(param), 0.0), _unit(n), front, _unit(n))
+    return Bsdf(np.int64(kind), ALBEDO, (float(param), 0.0), _unit(n), front, _unit(n), True)
 
 
 def _frame(n):
@@ -110,7 +110,7 @@ def _chi2_against(dirs, n, density, absorbed=0):
 # per kind.  Its draws must follow its pdf (chi-square), each drawn pdf be what
 # pdf() says, and each weight be eval / pdf, for wo from the normal to grazing,
 # on either side of the surface (front: a rough glass's two media).
-SMOOTH = {"lambertian": [()]}
+SMOOTH = {"lambertian": [()], "rough_conductor": [(0.1,), (0.4,), (1.0,)]}
 WOS = [(0.0, 0.0, 1.0), (0.6, 0.3, 0.74), (0.97, 0.0, 0.2)]
 
 
@@ -134,7 +134,7 @@ def test_a_smooth_material_draws_by_its_pdf_with_weight_eval_over_pdf(name, para
     frame = _frame(_unit(n))
     wo = _unit(np.asarray(wo) @ frame)          # wo about this normal
     padded = (*map(float, params), *(0.0,) * (2 - len(params)))
-    bsdf = Bsdf(np.int64(MATERIAL_TAGS[name]), ALBEDO, padded, _unit(n), front, _unit(n))
+    bsdf = Bsdf(np.int64(MATERIAL_TAGS[name]), ALBEDO, padded, _unit(n), front, _unit(n), True)
     wis, weights, pdfs, deltas, evals = _samples(bsdf, wo, N_SAMPLES, 3)
     assert not deltas.any()
     drawn = pdfs > 0
@@ -270,7 +270,7 @@ def test_each_kinds_flags_say_what_its_functions_do(name):
     if has(MEDIUM):                 # a volume's phase function (media.py): no surface
         assert name == "isotropic" and has(JOIN) and not has(DELTA | EMITS | PHOTON | FORKS)
         return
-    param = 1.5 if name == "dielectric" else 0.0       # metal: a sharp mirror
+    param = {"dielectric": 1.5, "rough_conductor": 0.3}.get(name, 0.0)   # metal: a mirror
     n, wo = (0.0, 0.0, 1.0), _unit((0.3, -0.2, 0.9))
     bsdf = _bsdf(kind, n, param)
     assert materials.delta(bsdf) == has(DELTA)
@@ -288,3 +288,40 @@ def test_each_kinds_flags_say_what_its_functions_do(name):
             assert drawn == {first, second} and 0.0 < chance < 1.0
     else:
         assert not has(FORKS)
+
+
+def _above(n, count, seed):
+    """count unit directions above the surface of normal n."""
+    d = _isotropic(count, seed)
+    return d * np.sign(d @ np.asarray(n))[:, None]
+
+
+@pytest.mark.parametrize("n", NORMALS)
+@pytest.mark.parametrize("name, params", _smooth_cases())
+def test_a_smooth_material_is_reciprocal(name, params, n):
+    # f(wo, wi) = f(wi, wo), f = eval / |cos theta_i|: light and importance
+    # see the same material (bdpt joins it both ways).
+    padded = (*map(float, params), *(0.0,) * (2 - len(params)))
+    bsdf = Bsdf(np.int64(MATERIAL_TAGS[name]), ALBEDO, padded, _unit(n), True, _unit(n), True)
+    a, b = _above(bsdf.n, 2000, 1), _above(bsdf.n, 2000, 2)
+    nn = np.asarray(bsdf.n)
+    e = _eval_pairs(bsdf, a, b, 1.0)
+    np.testing.assert_allclose(e[:, 0] / (b @ nn), e[:, 1] / (a @ nn), rtol=1e-9, atol=1e-300)
+    assert (e[:, 0] > 0).mean() > 0.5
+
+
+def test_a_nearly_smooth_rough_conductor_stays_finite_and_mirrors():
+    # alpha towards 0: large densities, but finite, and the draws gather at
+    # the mirror direction with weight albedo (G1 -> 1), as the books' metal.
+    n, wo = (0.0, 0.0, 1.0), _unit((0.6, 0.0, 0.8))
+    bsdf = Bsdf(np.int64(MATERIAL_TAGS["rough_conductor"]), ALBEDO, (1e-4, 0.0), n, True, n,
+                True)
+    wis, weights, pdfs, _, evals = _samples(bsdf, wo, 4000, 7)
+    assert np.isfinite(weights).all() and np.isfinite(pdfs).all() and np.isfinite(evals).all()
+    kept = pdfs > 0
+    assert kept.mean() > 0.999
+    angle = np.arccos(np.clip(wis[kept] @ np.array([-0.6, 0.0, 0.8]), -1, 1))
+    assert np.median(angle) < 1e-3 and angle.max() < 0.1
+    np.testing.assert_allclose(weights[kept], np.broadcast_to(ALBEDO, weights[kept].shape),
+                               rtol=1e-3)
+    np.testing.assert_allclose(weights[kept], evals[kept] / pdfs[kept, None], rtol=1e-6)

@@ -32,7 +32,7 @@ COS_BINS, PHI_BINS, SUB = 24, 48, 32
 @njit
 def _generate(a, p, n, w, count, seed):
     out = np.empty((count, 3))
-    bsdf = Bsdf(np.int64(LAMBERTIAN), (0.5, 0.5, 0.5), (0.0, 0.0), n, True, n)
+    bsdf = Bsdf(np.int64(LAMBERTIAN), (0.5, 0.5, 0.5), (0.0, 0.0), n, True, n, None)
     for i in range(count):
         d, _, _ = pdf.mixture_sample(a, bsdf, n, p, w, True, sampler.start(i, 0, seed, 0),
                                      None)
@@ -43,7 +43,7 @@ def _generate(a, p, n, w, count, seed):
 @njit
 def _value(a, p, n, w, dirs):
     out = np.empty(dirs.shape[0])
-    bsdf = Bsdf(np.int64(LAMBERTIAN), (0.5, 0.5, 0.5), (0.0, 0.0), n, True, n)
+    bsdf = Bsdf(np.int64(LAMBERTIAN), (0.5, 0.5, 0.5), (0.0, 0.0), n, True, n, None)
     for i in range(dirs.shape[0]):
         d = (dirs[i, 0], dirs[i, 1], dirs[i, 2])
         out[i] = pdf.mixture_value(a, bsdf, n, p, w, d, NO_HIT, False, None)

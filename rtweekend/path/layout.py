@@ -91,6 +91,9 @@ class SceneArrays(NamedTuple):
     # The 4-wide BVH (wide_bvh.py, WideBVH) the search walks, None in a scene
     # too small for a hierarchy: then it tests every object in one loop.
     wide: object = None
+    # True where a material of the scene is glossy (materials/flags.py), None
+    # else: then the kernels compile none of the glossy materials' code.
+    glossy: object = None
 
 
 class WideBVH(NamedTuple):

@@ -12,7 +12,7 @@ from ..errors import SceneError
 from ..kernel import compile_workers
 from ..scene.fields import SKY
 from . import bvh as hierarchy, mesh_light, wide_bvh
-from .materials import EMITS, KIND_FLAGS, KINDS, MATERIAL_TAGS, MEDIUM, objects_with
+from .materials import EMITS, GLOSSY, KIND_FLAGS, KINDS, MATERIAL_TAGS, MEDIUM, objects_with
 from .layout import (BG_COLOR, BG_SKY, BOX, MAT_FLOATS, N_PARAMS,
                      OBJ_FLOATS, OBJ_INTS, OBJ_KIND, OBJ_MAT, PRIMITIVE_KINDS, RECT,
                      SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles,
@@ -192,7 +192,8 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
     mesh_lights = [(first[id(s)], s.primitives) for s in scene.lights if s.kind == "mesh"]
     return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
                        *pack_lights(obj_i, obj_f, mat_i, mat_f), bg_kind, bg, *tree,
-                       tris.arrays(obj_f, mesh_lights), wide)
+                       tris.arrays(obj_f, mesh_lights), wide,
+                       True if (KIND_FLAGS[mat_i] & GLOSSY).any() else None)
 
 
 def _params(material):

@@ -23,6 +23,7 @@ class Material:
     name: str | None = None
     reflective: float = 0.0   # phong only: the mirror's share, in [0, 1]
     texture: object = None    # a Texture (textures.py) in place of `color`, or None
+    alpha: float = 0.0        # rough_conductor: the GGX roughness
 
     @property
     def medium(self):
@@ -54,6 +55,18 @@ def metal(albedo: Color | Texture, fuzz: float = 0.0, *,
     # The book clamps fuzz to 1; a negative fuzz is a mistake, not a clamp.
     fuzz = min(fields.number(fuzz, "fuzz", lo=0.0), 1.0)
     return Material("metal", fields.color(albedo, "albedo", hi=1.0), fuzz, name)
+
+
+@checked("rough_conductor")
+def rough_conductor(albedo: Color | Texture, alpha: float, *,
+                    name: str | None = None) -> Material:
+    """A rough metal: GGX microfacets of roughness `alpha` (0 < alpha <= 1;
+    towards 0 it tends to a mirror, 1 is very rough) reflecting `albedo` (a
+    colour or a texture), with no Fresnel term -- Mitsuba 3's roughconductor
+    with material "none"."""
+    color, texture = _colour(albedo, "albedo", hi=1.0)
+    return Material("rough_conductor", color, 0.0, name, texture=texture,
+                    alpha=fields.number(alpha, "alpha", lo=0.0, lo_open=True, hi=1.0))
 
 
 @checked("dielectric")
@@ -95,10 +108,13 @@ def phong(color: Color, specular: float = -1, reflective: float = 0.0, *,
 
 
 # The builders by kind, for the loader: the path tracer's, then the classic one.
-MATERIALS = {f.kind: f for f in (lambertian, metal, dielectric, diffuse_light, phong)}
+MATERIALS = {f.kind: f for f in (lambertian, metal, dielectric, diffuse_light, rough_conductor,
+                                  phong)}
 # Not a surface's: constant_medium (shapes.py) makes it.
 MEDIUM_MATERIALS = {"isotropic": isotropic}
 CLASSIC_MATERIALS = ("phong",)
+# What the package offers (scene/__init__.py, rtweekend/__init__.py): every builder.
+__all__ = ["Material", *MATERIALS, *MEDIUM_MATERIALS]
 
 
 def check_material(value):

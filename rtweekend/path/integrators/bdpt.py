@@ -121,7 +121,7 @@ def next_event(scene, params, cf, ci, lf, li, t, textures, media, time, smp):
     if cos_q <= 0.0:
         return ZERO, 0, smp                     # the emitter's back: it sends nothing
     wo = col(cf, pt, WO)
-    f = scatter(cf, ci, pt, wo, w)
+    f = scatter(scene.glossy, cf, ci, pt, wo, w)
     if not nonzero(f):
         return ZERO, 0, smp
     tr = clear(scene, p, ci[pt, OBJ], col(cf, pt, NG), w, dist, k, media, time)
@@ -129,8 +129,8 @@ def next_event(scene, params, cf, ci, lf, li, t, textures, media, time, smp):
         return ZERO, 1, smp
     cam = params.cam
     pt_rev = cos_q * INV_PI * area_factor(w, dist, col(cf, pt, NG), on_surface(ci, pt))
-    qs_rev = direction_pdf(cam, cf, ci, pt, wo, w) * cos_q / (dist * dist)
-    ptm_rev = back_density(cam, cf, ci, pt, w)
+    qs_rev = direction_pdf(cam, scene.glossy, cf, ci, pt, wo, w) * cos_q / (dist * dist)
+    ptm_rev = back_density(cam, scene.glossy, cf, ci, pt, w)
     if params.only_s >= 0:
         w = alone(params, 1, t)
     else:
@@ -150,22 +150,22 @@ def join(scene, params, cf, ci, lf, li, s, t, media, time):
     w, dist = toward(p, q)
     back = neg(w)
     wo_t, wo_s = col(cf, pt, WO), col(lf, qs, WO)
-    f_s = light_scatter(lf, li, qs, wo_s, back)
+    f_s = light_scatter(scene.glossy, lf, li, qs, wo_s, back)
     if not nonzero(f_s):
         return ZERO, 0
-    f_t = scatter(cf, ci, pt, wo_t, w)
+    f_t = scatter(scene.glossy, cf, ci, pt, wo_t, w)
     if not nonzero(f_t):
         return ZERO, 0
     tr = clear(scene, p, ci[pt, OBJ], col(cf, pt, NG), w, dist, li[qs, OBJ], media, time)
     if tr == 0.0:
         return ZERO, 1
     cam = params.cam
-    pt_rev = direction_pdf(cam, lf, li, qs, wo_s, back) * \
+    pt_rev = direction_pdf(cam, scene.glossy, lf, li, qs, wo_s, back) * \
         area_factor(w, dist, col(cf, pt, NG), on_surface(ci, pt))
-    ptm_rev = back_density(cam, cf, ci, pt, w)
-    qs_rev = direction_pdf(cam, cf, ci, pt, wo_t, w) * \
+    ptm_rev = back_density(cam, scene.glossy, cf, ci, pt, w)
+    qs_rev = direction_pdf(cam, scene.glossy, cf, ci, pt, wo_t, w) * \
         area_factor(w, dist, col(lf, qs, NG), on_surface(li, qs))
-    qsm_rev = back_density(cam, lf, li, qs, back)
+    qsm_rev = back_density(cam, scene.glossy, lf, li, qs, back)
     if params.only_s >= 0:
         w = alone(params, s, t)
     else:
@@ -189,7 +189,7 @@ def to_camera(scene, params, film, cf, ci, lf, li, s, source, media, time, smp):
     if not on_film or pdf <= 0.0:
         return 0, smp
     wo_s = col(lf, qs, WO)
-    f = light_scatter(lf, li, qs, wo_s, wi)
+    f = light_scatter(scene.glossy, lf, li, qs, wo_s, wi)
     if not nonzero(f):
         return 0, smp
     tr = clear(scene, q, li[qs, OBJ], col(lf, qs, NG), wi, dist, np.int64(NO_HIT), media, time)
@@ -197,7 +197,7 @@ def to_camera(scene, params, film, cf, ci, lf, li, s, source, media, time, smp):
         return 1, smp
     qs_rev = camera.pdf_direction(cam, neg(wi)) * \
         area_factor(wi, dist, col(lf, qs, NG), on_surface(li, qs))
-    qsm_rev = back_density(cam, lf, li, qs, wi)
+    qsm_rev = back_density(cam, scene.glossy, lf, li, qs, wi)
     if params.only_s >= 0:
         w = alone(params, s, 1)
     else:

@@ -130,37 +130,38 @@ def toward(a, b):
 
 
 @jit_step
-def bsdf_facing(vf, vi, i, wo):
-    """The material at surface vertex i, its normals on wo's side."""
+def bsdf_facing(glossy, vf, vi, i, wo):
+    """The material at surface vertex i, its normals on wo's side (glossy: the
+    scene's SceneArrays.glossy)."""
     ng, n = col(vf, i, NG), col(vf, i, NS)
     front = dot(wo, ng) > 0.0
     if not front:
         ng, n = (-ng[0], -ng[1], -ng[2]), (-n[0], -n[1], -n[2])
     return Bsdf(vi[i, MKIND], col(vf, i, COLOR), (vf[i, PARAMS], vf[i, PARAMS + 1]), n, front,
-                ng)
+                ng, glossy)
 
 
 @jit_step
-def light_scatter(vf, vi, i, wo, wi):
+def light_scatter(glossy, vf, vi, i, wo, wi):
     """scatter at vertex i of a light subpath, light arriving from wo and
     leaving along wi: at a smooth mesh's vertex, times the shading normal's
     adjoint factor (materials.shading_adjoint)."""
-    f = scatter(vf, vi, i, wo, wi)
+    f = scatter(glossy, vf, vi, i, wo, wi)
     if vi[i, TYPE] == SURFACE and (vf[i, NS] != vf[i, NG] or vf[i, NS + 1] != vf[i, NG + 1]
                                    or vf[i, NS + 2] != vf[i, NG + 2]):
-        a = materials.shading_adjoint(bsdf_facing(vf, vi, i, wo), wo, wi)
+        a = materials.shading_adjoint(bsdf_facing(glossy, vf, vi, i, wo), wo, wi)
         f = (f[0] * a, f[1] * a, f[2] * a)
     return f
 
 
 @jit_step
-def scatter(vf, vi, i, wo, wi):
+def scatter(glossy, vf, vi, i, wo, wi):
     """f(wo, wi) |cos theta_i| at vertex i as an RGB: a surface's material, a
     medium's phase function (no cosine), a light's radiance towards wi times
     its cosine (front side only)."""
     kind = vi[i, TYPE]
     if kind == SURFACE:
-        att, f = materials.eval(bsdf_facing(vf, vi, i, wo), wo, wi, 1.0)
+        att, f = materials.eval(bsdf_facing(glossy, vf, vi, i, wo), wo, wi, 1.0)
         return (att[0] * f, att[1] * f, att[2] * f)
     if kind == MEDIUM:
         f = isotropic.pdf()
@@ -173,13 +174,13 @@ def scatter(vf, vi, i, wo, wi):
 
 
 @jit_step
-def direction_pdf(cam, vf, vi, i, wo, wi):
+def direction_pdf(cam, glossy, vf, vi, i, wo, wi):
     """Solid-angle density of wi as vertex i draws its next direction (having
     been reached from wo): the camera's ray directions, a light's cosine lobe
     about its front, a material's sampling, the isotropic phase function."""
     kind = vi[i, TYPE]
     if kind == SURFACE:
-        return materials.pdf(bsdf_facing(vf, vi, i, wo), wo, wi)
+        return materials.pdf(bsdf_facing(glossy, vf, vi, i, wo), wo, wi)
     if kind == MEDIUM:
         return isotropic.pdf()
     if kind == LIGHT:
@@ -209,7 +210,7 @@ def projected(w, n, surface):
 
 
 @jit_step
-def back_density(cam, vf, vi, i, wi):
+def back_density(cam, glossy, vf, vi, i, wi):
     """The area density of vertex i - 1 drawn from vertex i, which was reached
     along wi: its REV as a strategy joined at vertex i makes it."""
-    return direction_pdf(cam, vf, vi, i, wi, col(vf, i, WO)) * vf[i, BACK]
+    return direction_pdf(cam, glossy, vf, vi, i, wi, col(vf, i, WO)) * vf[i, BACK]

@@ -8,6 +8,7 @@ N_PARAMS of them: Bsdf.params), each kind's named by its module
   DIFFUSE_LIGHT colour = emitted radiance, front face only  diffuse_light.py
   ISOTROPIC     colour = albedo, DENSITY: a constant medium's phase function
                                                          isotropic.py (media.py)
+  ROUGH_CONDUCTOR colour = albedo, ALPHA (GGX roughness)  rough_conductor.py
 
 An estimator makes the material's record at a hit once, `bsdf = at(scene,
 hit)` (its kind, colour there, parameter and shading normal: no array is read
@@ -58,16 +59,18 @@ from ...kernel import sampler
 from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot
 from ..layout import MAT_COLOR, MAT_PARAMS, N_PARAMS, OBJ_MAT
-from . import dielectric, diffuse_light, isotropic, lambertian, metal
-from .flags import DELTA, EMITS, JOIN, MEDIUM, PHOTON, FORKS  # noqa: F401  (for has)
+from . import dielectric, diffuse_light, isotropic, lambertian, metal, rough_conductor
+from .flags import DELTA, EMITS, FORKS, GLOSSY, JOIN, MEDIUM, PHOTON  # noqa: F401  (for has)
 
 # The kinds by the description's names (scene/materials.py), each its module;
 # a kind's tag (mat_i) is its place here.
 KINDS = {"lambertian": lambertian, "metal": metal, "dielectric": dielectric,
-         "diffuse_light": diffuse_light, "isotropic": isotropic}
+         "diffuse_light": diffuse_light, "isotropic": isotropic,
+         "rough_conductor": rough_conductor}
 MATERIAL_TAGS = {name: tag for tag, name in enumerate(KINDS)}
 LAMBERTIAN, METAL, DIELECTRIC = (MATERIAL_TAGS[k] for k in ("lambertian", "metal", "dielectric"))
 DIFFUSE_LIGHT, ISOTROPIC = MATERIAL_TAGS["diffuse_light"], MATERIAL_TAGS["isotropic"]
+ROUGH_CONDUCTOR = MATERIAL_TAGS["rough_conductor"]
 # Each kind's flags (flags.py), by its tag: what estimators ask through has().
 KIND_FLAGS = np.array([module.FLAGS for module in KINDS.values()], dtype=np.int64)
 
@@ -109,6 +112,7 @@ class Bsdf(NamedTuple):
     n: tuple               # the shading normal, on the incoming ray's side
     front: bool            # the ray met the front side
     ng: tuple              # the geometric normal, on the incoming ray's side
+    glossy: object         # the scene's SceneArrays.glossy: None, no glossy kind to ask
 
 
 @jit_step
@@ -124,7 +128,8 @@ def at(scene, hit):
     """The Bsdf of the surface record `hit` (surface.py)."""
     m = hit.mat
     ng = hit.n_out if hit.front else (-hit.n_out[0], -hit.n_out[1], -hit.n_out[2])
-    return Bsdf(scene.mat_i[m], hit.albedo, params(scene.mat_f, m), hit.n, hit.front, ng)
+    return Bsdf(scene.mat_i[m], hit.albedo, params(scene.mat_f, m), hit.n, hit.front, ng,
+                scene.glossy)
 
 
 @jit_step
@@ -145,7 +150,8 @@ def emitted(bsdf):
 def emitted_by(scene, m, front, color):
     """emitted() of material m with colour `color` at a point seen from its front
     side or not (a point sampled on a light: no whole record needed)."""
-    return emitted(Bsdf(scene.mat_i[m], color, NO_PARAMS, NO_DIRECTION, front, NO_DIRECTION))
+    return emitted(Bsdf(scene.mat_i[m], color, NO_PARAMS, NO_DIRECTION, front, NO_DIRECTION,
+                        None))
 
 
 @jit_step
@@ -269,10 +275,17 @@ def sample_at(bsdf, wo, u1, u2):
     (u1, u2) (the mixture's share of it: pdf.py); delta materials have none."""
     if bsdf.kind == LAMBERTIAN:
         wi, weight, p = lambertian.sample(bsdf, wo, u1, u2)
-        if behind(bsdf, wi):
-            return wi, NO_COLOR, 0.0            # absorbed, as pdf says
-        return wi, weight, p
-    return NO_DIRECTION, NO_COLOR, 0.0
+        return smooth_drawn(bsdf, wi, weight, p)
+    return glossy_sample(bsdf.glossy, bsdf, wo, u1, u2)
+
+
+@jit_step
+def smooth_drawn(bsdf, wi, weight, p):
+    """A smooth material's draw, absorbed where it leaves below the true
+    surface (behind), as its pdf says."""
+    if behind(bsdf, wi):
+        return wi, NO_COLOR, 0.0
+    return wi, weight, p
 
 
 @jit_step
@@ -283,7 +296,7 @@ def eval(bsdf, wo, wi, scale):
         if behind(bsdf, wi):
             return bsdf.albedo, 0.0
         return lambertian.eval(bsdf, wo, wi, scale)
-    return NO_COLOR, 0.0
+    return glossy_eval(bsdf.glossy, bsdf, wo, wi, scale)
 
 
 @jit_step
@@ -294,4 +307,40 @@ def pdf(bsdf, wo, wi):
         if behind(bsdf, wi):
             return 0.0
         return lambertian.pdf(bsdf, wo, wi)
+    return glossy_pdf(bsdf.glossy, bsdf, wo, wi)
+
+
+# The glossy kinds' functions (flags.GLOSSY), each behind `glossy`: None in a
+# scene without one, and Numba prunes the rest of the function before typing
+# it, so that scene's kernels hold none of their code.
+
+@jit_step
+def glossy_sample(glossy, bsdf, wo, u1, u2):
+    if glossy is None:
+        return NO_DIRECTION, NO_COLOR, 0.0
+    if bsdf.kind == ROUGH_CONDUCTOR:
+        wi, weight, p = rough_conductor.sample(bsdf, wo, u1, u2)
+        return smooth_drawn(bsdf, wi, weight, p)
+    return NO_DIRECTION, NO_COLOR, 0.0
+
+
+@jit_step
+def glossy_eval(glossy, bsdf, wo, wi, scale):
+    if glossy is None:
+        return NO_COLOR, 0.0
+    if bsdf.kind == ROUGH_CONDUCTOR:
+        if behind(bsdf, wi):
+            return bsdf.albedo, 0.0
+        return rough_conductor.eval(bsdf, wo, wi, scale)
+    return NO_COLOR, 0.0
+
+
+@jit_step
+def glossy_pdf(glossy, bsdf, wo, wi):
+    if glossy is None:
+        return 0.0
+    if bsdf.kind == ROUGH_CONDUCTOR:
+        if behind(bsdf, wi):
+            return 0.0
+        return rough_conductor.pdf(bsdf, wo, wi)
     return 0.0

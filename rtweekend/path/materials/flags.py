@@ -8,3 +8,5 @@ JOIN = 4       # bidirectional strategies may join a subpath there (bdpt.py)
 PHOTON = 8     # the caustic photon maps keep photons there, and the camera reads them
 FORKS = 16    # a delta material with two branches the light-seen pass follows both of
 MEDIUM = 32    # a medium's phase function, met inside a volume, never on a surface
+GLOSSY = 64    # a glossy lobe (microfacets): compiled into a scene's kernels only
+               # when one of its materials has it (SceneArrays.glossy)

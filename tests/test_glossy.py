@@ -1,0 +1,59 @@
+"""The glossy materials (path/materials/rough_conductor.py) in renders: against
+an independent renderer, and compiled only into the kernels of a scene that
+has one."""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from conftest import DATA, REPO
+from stats import block_z
+
+import rtweekend as rt
+from rtweekend.path.pack import pack_scene
+
+# The Cornell room with a rough gold box (alpha 0.25) and a rough steel ball
+# (alpha 0.06), and Mitsuba 3's render of it (roughconductor, GGX, material
+# "none": tests/data/reference/README.md).
+ROUGH_BOX = DATA / "rough_box.toml"
+
+
+@pytest.mark.parametrize("sampling", ["mixture+sobol", "bdpt+sobol"])
+def test_a_rough_conductor_renders_as_mitsuba_does(sampling):
+    with np.load(DATA / "reference" / "rough_box_40.npz") as f:
+        reference, ref_se = f["radiance"], f["stderr"]
+    result = rt.render(rt.load_scene(ROUGH_BOX), width=40, height=40, spp=512,
+                       sampling=sampling, seed=5, threads=2)
+    assert result.stats.nan_dropped == 0
+    z = block_z(result.image, result.stderr, reference, ref_se, 10)
+    assert z.size == 48
+    assert np.mean(np.abs(z) < 3) >= 0.95 and np.abs(z).max() < 5, np.round(z, 1)
+
+
+# In a process of its own, with an empty cache (a step loaded from the cache
+# compiles none of its callees): a lambertian's record from a scene without
+# glossy materials (glossy None) through eval, pdf and sample_at.
+UNGLOSSY = """
+import numpy as np
+from rtweekend.path import materials
+from rtweekend.path.materials import Bsdf, rough_conductor
+n = (0.0, 0.0, 1.0)
+for glossy in (None, True):
+    bsdf = Bsdf(np.int64(materials.LAMBERTIAN), (0.5, 0.5, 0.5), (0.0, 0.0), n, True, n, glossy)
+    assert materials.eval(bsdf, n, n, 1.0)[1] > 0 and materials.pdf(bsdf, n, n) > 0
+    assert materials.sample_at(bsdf, n, 0.3, 0.6)[2] > 0
+    print(sum(len(step.signatures) for step in
+              (rough_conductor.eval, rough_conductor.pdf, rough_conductor.sample)))
+"""
+
+
+def test_a_scene_without_a_glossy_material_compiles_none_of_their_code(tmp_path):
+    assert pack_scene(rt.load_scene("cornell_box")).glossy is None
+    assert pack_scene(rt.load_scene(ROUGH_BOX)).glossy is True
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path), RTWEEKEND_COMPILE_HELPERS="0")
+    run = subprocess.run([sys.executable, "-c", UNGLOSSY], env=env, capture_output=True,
+                         text=True, timeout=300, cwd=REPO)
+    assert run.returncode == 0, run.stderr[-2000:]
+    # None: the glossy kinds' code was pruned before typing; True: compiled.
+    assert run.stdout.split() == ["0", "3"]
