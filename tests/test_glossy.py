@@ -19,7 +19,11 @@ from rtweekend.path.pack import pack_scene
 ROUGH_BOX = DATA / "rough_box.toml"
 
 
-@pytest.mark.parametrize("sampling", ["mixture+sobol", "bdpt+sobol"])
+# bdpt+sobol: camera and light subpaths bounce off the glossy surfaces, join
+# there both ways and connect to the camera.  (Every sampling matched Mitsuba
+# on this scene at 100x100 when the material was added; each one's kernel for
+# a glossy scene is a compile of its own, so the suite checks one.)
+@pytest.mark.parametrize("sampling", ["bdpt+sobol"])
 def test_a_rough_conductor_renders_as_mitsuba_does(sampling):
     with np.load(DATA / "reference" / "rough_box_40.npz") as f:
         reference, ref_se = f["radiance"], f["stderr"]

@@ -1,9 +1,16 @@
 """The books' tone map: linear radiance to 8-bit colours (image.py writes
 them; a RenderResult shows itself with them in a notebook)."""
+from typing import Protocol
+
 import numpy as np
 
 
-def tonemap(image, exposure: float = 1.0) -> np.ndarray:
+class HasImage(Protocol):
+    """What render() returns, as the tone map reads it: its .image."""
+    image: np.ndarray
+
+
+def tonemap(image: np.ndarray | HasImage, exposure: float = 1.0) -> np.ndarray:
     """HxWx3 linear radiance (or what render() returned: its .image) -> HxWx3
     uint8, as the PNG writer does: the books' write_color, gamma 2 (sqrt), clamp
     to [0, 0.999], x256; `exposure` multiplies the radiance first (2: one stop
