@@ -8,9 +8,10 @@ the denoiser's pass.  Waiting for kernels that helper processes compile
 (kernel/compile_workers.py) counts as compiling too, and so do the cache's
 look-up that finds nothing before a compile (the process's first also
 imports Numba's code generators: most of a second) and its saving of what was
-compiled after (kernel/disk_cache.py): Numba does both outside its event.  So the seconds a render
-reports as compiling are all of them, and a progress display can say
-"compiling" exactly while something compiles (io/progress.py Spinner).
+compiled after (kernel/disk_cache.py): Numba does both outside its event.
+So the seconds a render reports as compiling are all of them, and a progress
+display can say "compiling" exactly while something compiles (io/progress.py
+Spinner).
 
 Compiles hold Numba's compiler lock, so at most one thread of the process
 compiles at a time; the clock is read from any thread.

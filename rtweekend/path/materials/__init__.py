@@ -106,7 +106,7 @@ def kind_has(name, flag):
 
 class Bsdf(NamedTuple):
     """A material at one hit: what its functions read."""
-    kind: np.int64         # LAMBERTIAN, METAL, ... (layout.py)
+    kind: np.int64         # LAMBERTIAN, METAL, ... (MATERIAL_TAGS above)
     albedo: tuple          # its colour there (emitted radiance for a light)
     params: tuple          # N_PARAMS floats: the kind's parameters (its module names them)
     n: tuple               # the shading normal, on the incoming ray's side
@@ -128,13 +128,13 @@ def at(scene, hit):
     """The Bsdf of the surface record `hit` (surface.py)."""
     m = hit.mat
     ng = hit.n_out if hit.front else (-hit.n_out[0], -hit.n_out[1], -hit.n_out[2])
-    return Bsdf(scene.mat_i[m], hit.albedo, params(scene.mat_f, m), hit.n, hit.front, ng,
-                scene.glossy)
+    return Bsdf(scene.mat_i[m], hit.albedo, packed_params(scene.mat_f, m), hit.n, hit.front,
+                ng, scene.glossy)
 
 
 @jit_step
-def params(mat_f, m):
-    """Material m's parameters (Bsdf.params)."""
+def packed_params(mat_f, m):
+    """Material m's parameters as pack.py wrote them (Bsdf.params)."""
     return (mat_f[m, MAT_PARAMS], mat_f[m, MAT_PARAMS + 1])
 
 
@@ -205,9 +205,8 @@ def sample_by_turns(bsdf, wo, smp):
     if bsdf.kind == LAMBERTIAN:
         u1, u2, smp = sampler.next_2d(smp)
         wi = lambertian.cosine_lobe(bsdf.n, u1, u2)
-        if behind(bsdf, wi):
-            return wi, bsdf.albedo, 0.0, False, smp     # absorbed (behind)
-        return wi, bsdf.albedo, lambertian.cosine_pdf(bsdf.n, wi), False, smp
+        wi, weight, p = smooth_drawn(bsdf, wi, bsdf.albedo, lambertian.cosine_pdf(bsdf.n, wi))
+        return wi, weight, p, False, smp
     return sample(bsdf, wo, smp)
 
 

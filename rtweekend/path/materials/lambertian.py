@@ -1,9 +1,9 @@
 """The lambertian (ideal diffuse) material: f = albedo / pi on the side the
 light comes from, sampled by the cosine lobe.
 
-Every function takes the shading normal n (the Bsdf's) on the side of wo (Surface.n: the
-books' set_face_normal turns it towards the incoming ray), which is how the
-books make the material two-sided.  The density of the cosine lobe is the
+Every function takes the shading normal n (the Bsdf's) on the side of wo
+(Surface.n: the books' set_face_normal turns it towards the incoming ray),
+which is how the books make the material two-sided.  The density of the cosine lobe is the
 books' scattering_pdf, cos(theta) / pi, so f |cos| = albedo x scattering_pdf and
 a cosine-sampled direction carries weight = albedo exactly.  Called the other
 way round (wi as the first direction) the same normal serves whenever wi is on
@@ -17,14 +17,13 @@ from ...kernel.vec3 import dot, local, onb
 from .flags import JOIN, PHOTON
 
 FLAGS = JOIN | PHOTON
+INV_PI = 1.0 / math.pi
+TWO_PI = 2.0 * math.pi
 
 
 def params(material):
     """No parameters: its colour is all."""
     return ()
-
-INV_PI = 1.0 / math.pi
-TWO_PI = 2.0 * math.pi
 
 
 @jit_step
