@@ -40,13 +40,14 @@ def test_a_rough_conductor_renders_as_mitsuba_does(sampling):
 # glossy materials (glossy None) through eval, pdf and sample_at.
 UNGLOSSY = """
 import numpy as np
+from rtweekend.kernel import sampler
 from rtweekend.path import materials
 from rtweekend.path.materials import Bsdf, rough_conductor
 n = (0.0, 0.0, 1.0)
 for glossy in (None, True):
     bsdf = Bsdf(np.int64(materials.LAMBERTIAN), (0.5, 0.5, 0.5), (0.0, 0.0), n, True, n, glossy)
     assert materials.eval(bsdf, n, n, 1.0)[1] > 0 and materials.pdf(bsdf, n, n) > 0
-    assert materials.sample_at(bsdf, n, 0.3, 0.6)[2] > 0
+    assert materials.sample_at(bsdf, n, 0.3, 0.6, sampler.start(0, 0, 1, 0))[2] > 0
     print(sum(len(step.signatures) for step in
               (rough_conductor.eval, rough_conductor.pdf, rough_conductor.sample)))
 """

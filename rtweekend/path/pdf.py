@@ -118,7 +118,7 @@ def mixture_sample(scene, bsdf, wo, p, light_weight, use_lights, smp, time):
         k = lights[min(int(pick * lights.shape[0]), lights.shape[0] - 1)]
         w, state = toward_light(scene, k, p, smp.state, time)
         return w, materials.NO_COLOR, sampler.resume(smp, state)
-    wi, weight, _ = materials.sample_at(bsdf, wo, v1, v2)
+    wi, weight, _, smp = materials.sample_at(bsdf, wo, v1, v2, smp)
     return wi, weight, smp
 
 

@@ -15,8 +15,9 @@ The throughput of a light path starts at Le / p(point) x pi (the cosine draw
 cancels cos / pi) and is multiplied by each bounce's weight f |cos| / pdf, the
 cosine of the new direction, and, where transport in this direction is not
 symmetric, by materials.adjoint: at a refraction, and where a smooth mesh
-shades with a normal that is not its geometric one (on connections too).  A connection adds beta x
-f(wo, towards the lens) |cos| x W_e / p_lens, which film.py divides by spp.
+shades with a normal that is not its geometric one (on connections too:
+materials.eval_adjoint).  A connection adds beta x f(wo, towards the lens)
+|cos| x W_e / p_lens, which film.py divides by spp.
 
 What it renders well: light reaching smooth surfaces through glass or off a
 mirror (caustics), which camera paths find only by chance.  What it cannot:
@@ -79,7 +80,7 @@ def connect_surface(scene, params, film, hit, bsdf, wo, beta, source, time, medi
     wi, dist, c, x, y, on_film, smp = to_lens(params, hit.p, smp)
     if not on_film:
         return smp
-    att, f = materials.eval(bsdf, wo, wi, c * materials.shading_adjoint(bsdf, wo, wi))
+    att, f = materials.eval(bsdf, wo, wi, c * materials.eval_adjoint(bsdf, wo, wi))
     if f > 0.0:
         deliver(scene, params, film, (beta[0] * att[0] * f, beta[1] * att[1] * f,
                                       beta[2] * att[2] * f), hit.p, wi, dist, hit.obj,

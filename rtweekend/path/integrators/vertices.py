@@ -144,12 +144,13 @@ def bsdf_facing(glossy, vf, vi, i, wo):
 @jit_step
 def light_scatter(glossy, vf, vi, i, wo, wi):
     """scatter at vertex i of a light subpath, light arriving from wo and
-    leaving along wi: at a smooth mesh's vertex, times the shading normal's
-    adjoint factor (materials.shading_adjoint)."""
+    leaving along wi: at a smooth mesh's vertex or a glossy one's, times the
+    adjoint's factor (materials.eval_adjoint: exactly 1 elsewhere)."""
     f = scatter(glossy, vf, vi, i, wo, wi)
-    if vi[i, TYPE] == SURFACE and (vf[i, NS] != vf[i, NG] or vf[i, NS + 1] != vf[i, NG + 1]
+    if vi[i, TYPE] == SURFACE and (materials.any_glossy(glossy)
+                                   or vf[i, NS] != vf[i, NG] or vf[i, NS + 1] != vf[i, NG + 1]
                                    or vf[i, NS + 2] != vf[i, NG + 2]):
-        a = materials.shading_adjoint(bsdf_facing(glossy, vf, vi, i, wo), wo, wi)
+        a = materials.eval_adjoint(bsdf_facing(glossy, vf, vi, i, wo), wo, wi)
         f = (f[0] * a, f[1] * a, f[2] * a)
     return f
 

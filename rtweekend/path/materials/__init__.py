@@ -20,14 +20,16 @@ each kind's module declaring its FLAGS (flags.py):
   scatters(bsdf), delta(bsdf)    does it scatter; is it sampled only
   sample(bsdf, wo, smp)          -> (wi, weight, pdf, delta, smp)
      sample_by_turns              the same, the lobe by kernel/trig.py (bdpt's)
-     sample_at(bsdf, wo, u1, u2) -> (wi, weight, pdf): a smooth one, for a given point
+     sample_at(bsdf, wo, u1, u2, smp) -> (wi, weight, pdf, smp): a smooth one, for a
+                                  given point (smp: for a lobe's choice)
      sample_delta(bsdf, wo, smp)  the delta ones
   eval(bsdf, wo, wi, scale)      -> (attenuation, scattering)
   pdf(bsdf, wo, wi)              -> density of wi (solid angle)
   branches(bsdf, d)              -> both directions of one that FORKS
   adjoint(bsdf, wo, wi)          -> factor on sample's weight for a light subpath
-  shading_adjoint(bsdf, wo, wi)  -> its part due to a shading normal (also on
-                                    a light subpath's connections)
+  eval_adjoint(bsdf, wo, wi)     -> factor on eval for a light subpath's connection:
+                                    the shading normal's (shading_adjoint) and a
+                                    glossy refraction's
 
 Directions point away from the surface: wo towards where the light goes (the
 camera side, -d for a ray along d), wi the other direction of the pair.  The
@@ -175,7 +177,7 @@ def sample(bsdf, wo, smp):
     if delta(bsdf):
         return sample_delta(bsdf, wo, smp)
     u1, u2, smp = sampler.next_2d(smp)
-    wi, weight, p = sample_at(bsdf, wo, u1, u2)
+    wi, weight, p, smp = sample_at(bsdf, wo, u1, u2, smp)
     return wi, weight, p, False, smp
 
 
@@ -230,7 +232,16 @@ def adjoint(bsdf, wo, wi):
     if bsdf.kind == DIELECTRIC and dot(wi, bsdf.n) < 0.0:    # through the surface
         a = dielectric.adjoint_weight(dot(wo, bsdf.n), -dot(wi, bsdf.n), bsdf.front,
                                       bsdf.params[dielectric.IOR])
-    return a * shading_adjoint(bsdf, wo, wi)
+    return a * glossy_adjoint(bsdf.glossy, bsdf, wo, wi) * shading_adjoint(bsdf, wo, wi)
+
+
+@jit_step
+def eval_adjoint(bsdf, wo, wi):
+    """What a light subpath's connection multiplies eval by, for light arriving
+    along -wo and leaving along wi: eval is the camera's f (radiance), and a
+    refraction's is not symmetric (a glossy one's: its module's adjoint), nor
+    is a shading normal (shading_adjoint).  Exactly 1 elsewhere."""
+    return glossy_adjoint(bsdf.glossy, bsdf, wo, wi) * shading_adjoint(bsdf, wo, wi)
 
 
 @jit_step
@@ -269,13 +280,16 @@ def shading_adjoint(bsdf, wo, wi):
 
 
 @jit_step
-def sample_at(bsdf, wo, u1, u2):
-    """(wi, weight, pdf) of a smooth material's sampling for the 2-D point
-    (u1, u2) (the mixture's share of it: pdf.py); delta materials have none."""
+def sample_at(bsdf, wo, u1, u2, smp):
+    """(wi, weight, pdf, smp) of a smooth material's sampling for the 2-D point
+    (u1, u2) (the mixture's share of it: pdf.py); delta materials have none.
+    A kind with two lobes (a rough glass's reflection and refraction) picks
+    one with a number of smp's stream, as the books' glass does."""
     if bsdf.kind == LAMBERTIAN:
         wi, weight, p = lambertian.sample(bsdf, wo, u1, u2)
-        return smooth_drawn(bsdf, wi, weight, p)
-    return glossy_sample(bsdf.glossy, bsdf, wo, u1, u2)
+        wi, weight, p = smooth_drawn(bsdf, wi, weight, p)
+        return wi, weight, p, smp
+    return glossy_sample(bsdf.glossy, bsdf, wo, u1, u2, smp)
 
 
 @jit_step
@@ -314,13 +328,14 @@ def pdf(bsdf, wo, wi):
 # it, so that scene's kernels hold none of their code.
 
 @jit_step
-def glossy_sample(glossy, bsdf, wo, u1, u2):
+def glossy_sample(glossy, bsdf, wo, u1, u2, smp):
     if glossy is None:
-        return NO_DIRECTION, NO_COLOR, 0.0
+        return NO_DIRECTION, NO_COLOR, 0.0, smp
     if bsdf.kind == ROUGH_CONDUCTOR:
         wi, weight, p = rough_conductor.sample(bsdf, wo, u1, u2)
-        return smooth_drawn(bsdf, wi, weight, p)
-    return NO_DIRECTION, NO_COLOR, 0.0
+        wi, weight, p = smooth_drawn(bsdf, wi, weight, p)
+        return wi, weight, p, smp
+    return NO_DIRECTION, NO_COLOR, 0.0, smp
 
 
 @jit_step
@@ -343,3 +358,21 @@ def glossy_pdf(glossy, bsdf, wo, wi):
             return 0.0
         return rough_conductor.pdf(bsdf, wo, wi)
     return 0.0
+
+
+@jit_step
+def glossy_adjoint(glossy, bsdf, wo, wi):
+    if glossy is None:
+        return 1.0
+    if bsdf.kind == ROUGH_CONDUCTOR:
+        return rough_conductor.adjoint(bsdf, wo, wi)
+    return 1.0
+
+
+@jit_step
+def any_glossy(glossy):
+    """Has the scene a glossy kind (SceneArrays.glossy)?  A constant, for a
+    test that a scene without one compiles away."""
+    if glossy is None:
+        return False
+    return True
