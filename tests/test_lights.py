@@ -181,3 +181,34 @@ def test_the_solid_angle_density_of_an_area_sample_is_the_rects_pdf_toward(name)
     a = _arrays(LIGHTS[name]())
     out = _solid_angle_pair(a, 0, (0.3, -1.0, 0.2), 500, 5)
     np.testing.assert_allclose(out[:, 0], out[:, 1], rtol=1e-9)
+
+
+@njit
+def _from_its_surface(a, k, count, seed):
+    """Directions sample_toward draws towards sphere k from points of its own
+    surface, and the density pdf_toward gives each leaving from it."""
+    state = rng.seed_state(k, 1, seed)
+    c, r = (a.obj_f[k, 0], a.obj_f[k, 1], a.obj_f[k, 2]), abs(a.obj_f[k, 3])
+    out = np.empty((count, 5))
+    for i in range(count):
+        n, state = rng.unit_vector(state)
+        p = (c[0] + r * n[0], c[1] + r * n[1], c[2] + r * n[2])
+        d, state = shapes.sample_toward(a, k, p, state, None)
+        inside = shapes.enters(a, k, n, d)
+        out[i, 0] = shapes.pdf_toward(a, k, p, d, k, inside, None)
+        out[i, 1] = -dot(d, n)                          # cosine with the inward normal
+        out[i, 2], out[i, 3], out[i, 4] = d
+    return out
+
+
+def test_a_sphere_seen_from_its_own_surface_is_the_inward_hemisphere():
+    # An attractor that scatters (a frosted glass ball in the lights list) is
+    # sampled from points of itself: every direction drawn goes in, uniform
+    # over the hemisphere (cosine uniform in (0, 1)), and pdf_toward leaving
+    # from it gives that density, 1 / 2 pi -- else the books' mixture weighs
+    # its draws wrongly.
+    a = _arrays(rt.sphere((0.3, -0.2, 1.0), 90.0, GREY))
+    out = _from_its_surface(a, 0, 40_000, 3)
+    assert (out[:, 1] > 0).all()
+    np.testing.assert_allclose(out[:, 0], 1 / (2 * math.pi), rtol=1e-12)
+    assert_chi2(np.bincount((out[:, 1] * 20).astype(int), minlength=20), np.full(20, 2000.0))

@@ -11,7 +11,9 @@ hollow bubble) or flip_face turns it inward.
 Leaving a sphere, a ray can meet it again only at the far root, and only if it
 went inside: `distance` knows which (no epsilon, exact at every scale).
 As a light it is sampled uniformly in the cone it subtends from the shading
-point (uniformly over all directions from on or inside it).
+point: from a point of its own surface (an attractor in the lights list that
+scatters, such as a frosted glass ball) the inward hemisphere, every direction
+of which meets its far side; uniformly over all directions from inside it.
 """
 import math
 
@@ -23,6 +25,10 @@ from ...kernel.vec3 import dot, local, onb, scale
 
 INF = math.inf
 INV_4PI = 1.0 / (4.0 * math.pi)
+INV_2PI = 1.0 / (2.0 * math.pi)
+# A point whose squared distance from the centre is within this share of r^2
+# is on the sphere (a hit on it; rounding puts it either side).
+ON_SURFACE = 1e-9
 CENTER = 0
 RADIUS = 3
 RADIUS2 = 4
@@ -138,12 +144,14 @@ def sample_toward(obj_f, k, p, state, time):
     w = (c[0] - p[0], c[1] - p[1], c[2] - p[2])
     dist2 = dot(w, w)
     r2 = obj_f[k, RADIUS2]
-    if dist2 <= r2:
-        # On or inside the sphere every direction hits it: uniform sphere.
+    on_it = abs(dist2 - r2) <= ON_SURFACE * r2
+    if dist2 <= r2 and not on_it:
+        # Inside the sphere every direction hits it: uniform sphere.
         return rng.unit_vector(state)
     u1, state = rng.uniform(state)
     u2, state = rng.uniform(state)
-    z = 1.0 - u2 * one_minus_cos_theta_max(r2, dist2)
+    # On it: the cone is the inward hemisphere (cos theta_max = 0).
+    z = 1.0 - u2 * (1.0 if on_it else one_minus_cos_theta_max(r2, dist2))
     phi = rng.TWO_PI * u1
     s = math.sqrt(max(0.0, 1.0 - z * z))
     w = scale(w, 1.0 / math.sqrt(dist2))
@@ -184,7 +192,8 @@ def pdf_toward(obj_f, k, p, d, from_self, from_inside, time):
         if b <= 0.0 or b * b < dist2 - r2:
             return 0.0
         return 1.0 / (rng.TWO_PI * one_minus_cos_theta_max(r2, dist2))
-    # Leaving this very sphere light: only inward, to its far side.
+    # Leaving this very sphere: only inward, to its far side, as sample_toward
+    # draws from a point of its surface.
     if from_inside and root(obj_f, k, p, d, INF, True, time) != INF:
-        return INV_4PI
+        return INV_2PI
     return 0.0
