@@ -166,6 +166,9 @@ def _bsdf(m):
         return {"type": "twosided", "bsdf": {
             "type": "roughconductor", "material": "none", "distribution": "ggx",
             "alpha": float(m.alpha), "specular_reflectance": _rgb(m.color)}}
+    if m.kind == "rough_dielectric":   # Walter et al. with GGX, exact Fresnel, visible normals
+        return {"type": "roughdielectric", "distribution": "ggx", "alpha": float(m.alpha),
+                "int_ior": float(m.param), "ext_ior": 1.0}
     if m.kind == "diffuse_light":      # emits (see mitsuba_dict); absorbs whatever hits it
         return {"type": "diffuse", "reflectance": _rgb((0, 0, 0))}
     raise NotImplementedError(f"material {m.kind!r}")

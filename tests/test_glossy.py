@@ -1,6 +1,6 @@
-"""The glossy materials (path/materials/rough_conductor.py) in renders: against
-an independent renderer, and compiled only into the kernels of a scene that
-has one."""
+"""The glossy materials (path/materials/rough_conductor.py, rough_dielectric.py)
+in renders: against an independent renderer, and compiled only into the
+kernels of a scene that has one."""
 import os
 import subprocess
 import sys
@@ -29,6 +29,22 @@ def test_a_rough_conductor_renders_as_mitsuba_does(sampling):
         reference, ref_se = f["radiance"], f["stderr"]
     result = rt.render(rt.load_scene(ROUGH_BOX), width=40, height=40, spp=512,
                        sampling=sampling, seed=5, threads=2)
+    assert result.stats.nan_dropped == 0
+    z = block_z(result.image, result.stderr, reference, ref_se, 10)
+    assert z.size == 48
+    assert np.mean(np.abs(z) < 3) >= 0.95 and np.abs(z).max() < 5, np.round(z, 1)
+
+
+# The bundled cornell_rough: a rough gold box (alpha 0.2) and a frosted glass
+# ball (ior 1.5, alpha 0.12), against Mitsuba 3's roughconductor and
+# roughdielectric (tests/data/reference/README.md).  bdpt+sobol: light
+# subpaths refract through the rough glass (the adjoint's eta^2, the reverse
+# densities from the other side) and join the camera's at either side.
+def test_a_frosted_glass_ball_renders_as_mitsuba_does():
+    with np.load(DATA / "reference" / "cornell_rough_40.npz") as f:
+        reference, ref_se = f["radiance"], f["stderr"]
+    result = rt.render(rt.load_scene("cornell_rough"), width=40, height=40, spp=512,
+                       sampling="bdpt+sobol", seed=5, threads=2)
     assert result.stats.nan_dropped == 0
     z = block_z(result.image, result.stderr, reference, ref_se, 10)
     assert z.size == 48

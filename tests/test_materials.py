@@ -29,7 +29,10 @@ def _unit(v):
 
 
 def _bsdf(kind, n, param=0.0, front=True):
-    return Bsdf(np.int64(kind), ALBEDO, (float(param), 0.0), _unit(n), front, _unit(n), True)
+    """A record of material `kind`: param, its first parameter or all of them."""
+    params = tuple(map(float, np.atleast_1d(param)))
+    return Bsdf(np.int64(kind), ALBEDO, (*params, *(0.0,) * (2 - len(params))), _unit(n),
+                front, _unit(n), True)
 
 
 def _frame(n):
@@ -75,7 +78,9 @@ def _isotropic(count, seed):
 def _binned(dirs, n, density):
     """(observed counts, probabilities) of directions binned on an equal-area
     (cos theta, phi) grid about n: each bin's integral of density(directions)
-    (one jittered point per sub-cell)."""
+    by the midpoint rule, each bin refined until two resolutions agree (a
+    narrow lobe -- a rough glass's refraction -- needs far more points than
+    the rest of the sphere)."""
     frame = _frame(n)
     local = dirs @ frame.T
     cos_t = np.clip(local[:, 2], -1, 1 - 1e-15)
@@ -83,14 +88,42 @@ def _binned(dirs, n, density):
     i = ((cos_t + 1) / 2 * COS_BINS).astype(int)
     j = np.minimum((phi / (2 * math.pi) * PHI_BINS).astype(int), PHI_BINS - 1)
     observed = np.bincount(i * PHI_BINS + j, minlength=COS_BINS * PHI_BINS)
-    jitter = np.random.default_rng(5).random((2, COS_BINS * SUB, PHI_BINS * SUB))
-    c = (np.arange(COS_BINS * SUB)[:, None] + jitter[0]) / (COS_BINS * SUB) * 2 - 1
-    p = (np.arange(PHI_BINS * SUB)[None, :] + jitter[1]) / (PHI_BINS * SUB) * 2 * math.pi
-    s = np.sqrt(1 - c ** 2)
-    grid = np.stack([s * np.cos(p), s * np.sin(p), c], -1).reshape(-1, 3) @ frame
-    d_omega = 4 * math.pi / (COS_BINS * SUB * PHI_BINS * SUB)
-    per_bin = density(np.ascontiguousarray(grid)).reshape(COS_BINS, SUB, PHI_BINS, SUB)
-    return observed, per_bin.sum(axis=(1, 3)).ravel() * d_omega
+    return observed, _integrated(density, frame)
+
+
+def _integrated(density, frame):
+    """density(directions) integrated over each bin of the grid about frame's
+    normal."""
+    bins = np.arange(COS_BINS * PHI_BINS)
+    prob = _bin_integrals(density, frame, bins, SUB)
+    finer = _bin_integrals(density, frame, bins, 2 * SUB)
+    sub = 2 * SUB
+    while True:
+        rough = np.abs(finer - prob) > 1e-6 + 1e-4 * finer
+        if not rough.any() or sub >= 32 * SUB:
+            return finer
+        prob = finer.copy()
+        sub *= 2
+        finer[rough] = _bin_integrals(density, frame, bins[rough], sub)
+
+
+def _bin_integrals(density, frame, bins, sub):
+    """The integrals of density over the bins (flat indices), by the midpoint
+    rule on sub x sub cells in (theta, phi) -- not in cos theta, where a lobe
+    at a pole is a near-singular spike."""
+    k = (np.arange(sub) + 0.5) / sub
+    rows = bins // PHI_BINS
+    lo = np.arccos(np.minimum(1.0, (rows + 1) / COS_BINS * 2 - 1))     # theta of the bin's top
+    hi = np.arccos((rows / COS_BINS) * 2 - 1)
+    t = (lo[:, None] + (hi - lo)[:, None] * k[None, :])[:, :, None]    # (bins, sub, 1)
+    p = ((bins % PHI_BINS)[:, None] + k[None, :])[:, None, :] / PHI_BINS * 2 * math.pi
+    shape = (len(bins), sub, sub)
+    local = np.stack([np.broadcast_to(np.sin(t) * np.cos(p), shape),
+                      np.broadcast_to(np.sin(t) * np.sin(p), shape),
+                      np.broadcast_to(np.cos(t), shape)], -1)
+    values = density(np.ascontiguousarray(local.reshape(-1, 3) @ frame)).reshape(shape)
+    area = np.sin(t) * ((hi - lo) / sub)[:, None, None] * (2 * math.pi / (PHI_BINS * sub))
+    return (values * area).sum(axis=(1, 2))
 
 
 def _chi2_against(dirs, n, density, absorbed=0):
@@ -110,7 +143,8 @@ def _chi2_against(dirs, n, density, absorbed=0):
 # per kind.  Its draws must follow its pdf (chi-square), each drawn pdf be what
 # pdf() says, and each weight be eval / pdf, for wo from the normal to grazing,
 # on either side of the surface (front: a rough glass's two media).
-SMOOTH = {"lambertian": [()], "rough_conductor": [(0.1,), (0.4,), (1.0,)]}
+SMOOTH = {"lambertian": [()], "rough_conductor": [(0.1,), (0.4,), (1.0,)],
+          "rough_dielectric": [(1.5, 0.15), (1.5, 0.5), (1.33, 1.0)]}
 WOS = [(0.0, 0.0, 1.0), (0.6, 0.3, 0.74), (0.97, 0.0, 0.2)]
 
 
@@ -270,7 +304,8 @@ def test_each_kinds_flags_say_what_its_functions_do(name):
     if has(MEDIUM):                 # a volume's phase function (media.py): no surface
         assert name == "isotropic" and has(JOIN) and not has(DELTA | EMITS | PHOTON | FORKS)
         return
-    param = {"dielectric": 1.5, "rough_conductor": 0.3}.get(name, 0.0)   # metal: a mirror
+    param = {"dielectric": 1.5, "rough_conductor": 0.3,           # metal: a mirror
+             "rough_dielectric": (1.5, 0.3)}.get(name, 0.0)
     n, wo = (0.0, 0.0, 1.0), _unit((0.3, -0.2, 0.9))
     bsdf = _bsdf(kind, n, param)
     assert materials.delta(bsdf) == has(DELTA)
@@ -325,3 +360,127 @@ def test_a_nearly_smooth_rough_conductor_stays_finite_and_mirrors():
     np.testing.assert_allclose(weights[kept], np.broadcast_to(ALBEDO, weights[kept].shape),
                                rtol=1e-3)
     np.testing.assert_allclose(weights[kept], evals[kept] / pdfs[kept, None], rtol=1e-6)
+
+
+# -- rough glass (rough_dielectric.py) ------------------------------------------
+
+def _rough_glass(n, ior, alpha, front=True):
+    return Bsdf(np.int64(MATERIAL_TAGS["rough_dielectric"]), (1.0, 1.0, 1.0),
+                (float(ior), float(alpha)), _unit(n), front, _unit(n), True)
+
+
+def test_the_exact_fresnel_reflectance():
+    from rtweekend.path.materials import rough_dielectric
+    for eta in (1.5, 1.33, 1 / 1.5):
+        f, cos_t = rough_dielectric.fresnel(1.0, eta)          # normal incidence
+        assert f == pytest.approx(((eta - 1) / (eta + 1)) ** 2, rel=1e-12) and cos_t == 1.0
+    # Brewster's angle: the p-polarised half vanishes, F = rs^2 / 2
+    eta = 1.5
+    cos_b = math.cos(math.atan(eta))
+    f, cos_t = rough_dielectric.fresnel(cos_b, eta)
+    sin_t = math.sqrt(1 - cos_b ** 2) / eta
+    assert cos_t == pytest.approx(math.sqrt(1 - sin_t ** 2), rel=1e-12)
+    rs = (cos_b - eta * cos_t) / (cos_b + eta * cos_t)
+    assert f == pytest.approx(rs * rs / 2, rel=1e-12)
+    # past the critical angle from inside: total internal reflection
+    assert rough_dielectric.fresnel(0.5, 1 / 1.5) == (1.0, 0.0)
+
+
+@pytest.mark.parametrize("n", NORMALS)
+@pytest.mark.parametrize("ior, alpha", [(1.5, 0.2), (1.33, 0.7)])
+def test_rough_glass_is_reciprocal_with_the_squeeze_of_radiance(n, ior, alpha):
+    # f(wo, wi) / eta_wo^2 = f(wi, wo) / eta_wi^2 (Veach's thesis, 5.2),
+    # f = eval / |cos theta_i|, each side's record with its normal on its own
+    # wo's side; the adjoint's factor 1 / eta^2 on the way out of the glass
+    # turns f(wi, wo) back into f(wo, wi).
+    outside, inside = _rough_glass(n, ior, alpha), _rough_glass(
+        tuple(-c for c in _unit(n)), ior, alpha, front=False)
+    nn = np.asarray(outside.n)
+    a, b = _above(nn, 3000, 1), -_above(nn, 3000, 2)       # a outside, b inside
+    e_ab = _eval_pairs_with(outside, inside, a, b)
+    f_ab, f_ba = e_ab[:, 0] / np.abs(b @ nn), e_ab[:, 1] / np.abs(a @ nn)
+    assert (f_ab > 0).mean() > 0.1           # into glass: only within a cone
+    np.testing.assert_allclose(f_ab * ior ** 2, f_ba, rtol=1e-7, atol=1e-14)
+    adj = np.array([materials.adjoint(inside, tuple(y), tuple(x)) for x, y in zip(a[:50], b)])
+    np.testing.assert_allclose(adj, 1 / ior ** 2, rtol=1e-12)
+    assert materials.adjoint(outside, tuple(a[0]), tuple(a[1])) == 1.0
+
+
+@njit
+def _eval_pairs_with(front, back, a, b):
+    """eval(front, a -> b) and eval(back, b -> a), first channel."""
+    out = np.empty((a.shape[0], 2))
+    for i in range(a.shape[0]):
+        x, y = (a[i, 0], a[i, 1], a[i, 2]), (b[i, 0], b[i, 1], b[i, 2])
+        att, s = materials.eval(front, x, y, 1.0)
+        out[i, 0] = att[0] * s
+        att, s = materials.eval(back, y, x, 1.0)
+        out[i, 1] = att[0] * s
+    return out
+
+
+@pytest.mark.parametrize("front", [True, False])
+@pytest.mark.parametrize("cos_in", [0.95, 0.5, 0.15])
+def test_nearly_smooth_rough_glass_is_the_exact_fresnel_glass(front, cos_in):
+    # alpha towards 0: finite, reflecting with the exact Fresnel chance,
+    # refracting by Snell's law with weight 1 / eta^2 (radiance squeezed).
+    from rtweekend.path.materials import rough_dielectric
+    ior, n = 1.5, (0.0, 0.0, 1.0)
+    wo = (math.sqrt(1 - cos_in ** 2), 0.0, cos_in)
+    bsdf = _rough_glass(n, ior, 1e-4, front)
+    wis, weights, pdfs, _, evals = _samples(bsdf, wo, 20_000, 4)
+    assert np.isfinite(weights).all() and np.isfinite(pdfs).all() and np.isfinite(evals).all()
+    kept = pdfs > 0
+    assert kept.mean() > 0.999
+    reflected = wis[:, 2] > 0
+    eta = ior if front else 1 / ior
+    p, _ = rough_dielectric.fresnel(cos_in, eta)
+    sigma = math.sqrt(max(p * (1 - p), 1e-12) / len(wis))
+    assert abs(reflected.mean() - p) <= 5 * sigma + 1e-3
+    # GGX has long tails: most draws within 1e-3 of the smooth glass's
+    # directions, weights its (1; 1 / eta^2 refracted)
+    refl = wis[kept & reflected]
+    mirror = np.array([-wo[0], -wo[1], wo[2]])
+    assert np.median(np.arccos(np.clip(refl @ mirror, -1, 1))) < 1e-3
+    np.testing.assert_allclose(np.median(weights[kept & reflected], axis=0), 1.0, rtol=1e-4)
+    if p < 1:
+        t = wis[kept & ~reflected]
+        sin_t = np.hypot(t[:, 0], t[:, 1])
+        assert np.median(np.abs(sin_t - math.sqrt(1 - cos_in ** 2) / eta)) < 1e-3
+        np.testing.assert_allclose(np.median(weights[kept & ~reflected], axis=0), 1 / eta ** 2,
+                                   rtol=1e-4)
+
+
+@pytest.mark.parametrize("front", [True, False])
+@pytest.mark.parametrize("alpha", [0.05, 0.3, 1.0])
+def test_rough_glass_loses_no_more_than_single_scattering_does(front, alpha):
+    # A white furnace of one bounce: the mean of sample's weight, times eta^2
+    # where it refracts (energy, not radiance), is the integral of eval (so
+    # times) over the sphere, which is at most 1 (energy is not made) and 1
+    # for a smooth glass (the draws that leave on the wrong side and G1 < 1
+    # are what single scattering loses as it roughens).
+    ior = 1.5
+    bsdf = _rough_glass((0.0, 0.0, 1.0), ior, alpha, front)
+    eta = ior if front else 1 / ior
+    wo = _unit((0.5, 0.2, 0.8))
+    wis, weights, pdfs, _, _ = _samples(bsdf, wo, 40_000, 6)
+    energy = weights[:, 0] * np.where(wis[:, 2] < 0, eta * eta, 1.0) * (pdfs > 0)
+    mean, se = energy.mean(), energy.std() / math.sqrt(len(energy))
+
+    def kept(d):
+        e = _evals(bsdf, wo, d)
+        return e * np.where(d[:, 2] < 0, eta * eta, 1.0)
+    integral = _integrated(kept, _frame(bsdf.n)).sum()
+    assert abs(mean - integral) < 4 * se + 1e-4
+    assert integral <= 1 + 1e-4
+    if alpha == 0.05:
+        assert integral > 0.98
+
+
+@njit
+def _evals(bsdf, wo, dirs):
+    out = np.empty(dirs.shape[0])
+    for i in range(dirs.shape[0]):
+        att, s = materials.eval(bsdf, wo, (dirs[i, 0], dirs[i, 1], dirs[i, 2]), 1.0)
+        out[i] = att[0] * s
+    return out

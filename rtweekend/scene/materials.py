@@ -18,12 +18,12 @@ from .textures import Texture, texture_or_color
 class Material:
     kind: str             # "lambertian", "metal", ... (the builder's name)
     color: tuple          # albedo, or emitted radiance; phong: 0..255 colour
-    param: float = 0.0    # metal: fuzz; dielectric: ior; phong: specular exponent;
+    param: float = 0.0    # metal: fuzz; (rough_)dielectric: ior; phong: specular exponent;
                           # isotropic: density
     name: str | None = None
     reflective: float = 0.0   # phong only: the mirror's share, in [0, 1]
     texture: object = None    # a Texture (textures.py) in place of `color`, or None
-    alpha: float = 0.0        # rough_conductor: the GGX roughness
+    alpha: float = 0.0        # rough_conductor, rough_dielectric: the GGX roughness
 
     @property
     def medium(self):
@@ -77,6 +77,17 @@ def dielectric(ior: float, *, name: str | None = None) -> Material:
                     fields.number(ior, "ior", lo=0.0, lo_open=True), name)
 
 
+@checked("rough_dielectric")
+def rough_dielectric(ior: float, alpha: float, *, name: str | None = None) -> Material:
+    """Frosted glass of index of refraction `ior`: GGX microfacets of
+    roughness `alpha` (0 < alpha <= 1; towards 0 it tends to smooth glass)
+    reflecting with the exact Fresnel reflectance and refracting the rest
+    (Walter et al. 2007) -- Mitsuba 3's roughdielectric."""
+    return Material("rough_dielectric", (1.0, 1.0, 1.0),
+                    fields.number(ior, "ior", lo=0.0, lo_open=True), name,
+                    alpha=fields.number(alpha, "alpha", lo=0.0, lo_open=True, hi=1.0))
+
+
 @checked("diffuse_light")
 def diffuse_light(emit: Color | Texture, *, name: str | None = None) -> Material:
     """emit: the radiance of its front side, a colour or a texture."""
@@ -109,7 +120,7 @@ def phong(color: Color, specular: float = -1, reflective: float = 0.0, *,
 
 # The builders by kind, for the loader: the path tracer's, then the classic one.
 MATERIALS = {f.kind: f for f in (lambertian, metal, dielectric, diffuse_light, rough_conductor,
-                                  phong)}
+                                  rough_dielectric, phong)}
 # Not a surface's: constant_medium (shapes.py) makes it.
 MEDIUM_MATERIALS = {"isotropic": isotropic}
 CLASSIC_MATERIALS = ("phong",)

@@ -97,9 +97,8 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
             pdf_dir = 0.0                       # no density: MIS skips the vertex
         else:
             pdf_dir = density
-            # The reverse density: wo drawn having come from d (the normal stays
-            # on the side of both: a smooth material only reflects).
-            set_reverse(vf, n - 2, materials.pdf(bsdf, d, wo))
+            # The reverse density: wo drawn having come from d.
+            set_reverse(vf, n - 2, materials.reverse_pdf(bsdf, wo, d))
         if adjoint:
             weight = scale(weight, materials.adjoint(bsdf, wo, d))
         beta = mul(beta, weight)

@@ -9,6 +9,7 @@ N_PARAMS of them: Bsdf.params), each kind's named by its module
   ISOTROPIC     colour = albedo, DENSITY: a constant medium's phase function
                                                          isotropic.py (media.py)
   ROUGH_CONDUCTOR colour = albedo, ALPHA (GGX roughness)  rough_conductor.py
+  ROUGH_DIELECTRIC IOR, ALPHA (GGX roughness)             rough_dielectric.py
 
 An estimator makes the material's record at a hit once, `bsdf = at(scene,
 hit)` (its kind, colour there, parameter and shading normal: no array is read
@@ -25,6 +26,7 @@ each kind's module declaring its FLAGS (flags.py):
      sample_delta(bsdf, wo, smp)  the delta ones
   eval(bsdf, wo, wi, scale)      -> (attenuation, scattering)
   pdf(bsdf, wo, wi)              -> density of wi (solid angle)
+  reverse_pdf(bsdf, wo, wi)      -> density of wo, having come from wi
   branches(bsdf, d)              -> both directions of one that FORKS
   adjoint(bsdf, wo, wi)          -> factor on sample's weight for a light subpath
   eval_adjoint(bsdf, wo, wi)     -> factor on eval for a light subpath's connection:
@@ -62,17 +64,19 @@ from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot
 from ..layout import MAT_COLOR, MAT_PARAMS, N_PARAMS, OBJ_MAT
 from . import dielectric, diffuse_light, isotropic, lambertian, metal, rough_conductor
+from . import rough_dielectric
 from .flags import DELTA, EMITS, FORKS, GLOSSY, JOIN, MEDIUM, PHOTON  # noqa: F401  (for has)
 
 # The kinds by the description's names (scene/materials.py), each its module;
 # a kind's tag (mat_i) is its place here.
 KINDS = {"lambertian": lambertian, "metal": metal, "dielectric": dielectric,
          "diffuse_light": diffuse_light, "isotropic": isotropic,
-         "rough_conductor": rough_conductor}
+         "rough_conductor": rough_conductor, "rough_dielectric": rough_dielectric}
 MATERIAL_TAGS = {name: tag for tag, name in enumerate(KINDS)}
 LAMBERTIAN, METAL, DIELECTRIC = (MATERIAL_TAGS[k] for k in ("lambertian", "metal", "dielectric"))
 DIFFUSE_LIGHT, ISOTROPIC = MATERIAL_TAGS["diffuse_light"], MATERIAL_TAGS["isotropic"]
-ROUGH_CONDUCTOR = MATERIAL_TAGS["rough_conductor"]
+ROUGH_CONDUCTOR, ROUGH_DIELECTRIC = (MATERIAL_TAGS[k] for k in ("rough_conductor",
+                                                                  "rough_dielectric"))
 # Each kind's flags (flags.py), by its tag: what estimators ask through has().
 KIND_FLAGS = np.array([module.FLAGS for module in KINDS.values()], dtype=np.int64)
 
@@ -257,6 +261,15 @@ def behind(bsdf, wi):
 
 
 @jit_step
+def crosses_wrongly(bsdf, wi):
+    """behind() for a material that refracts: where the shading normal is
+    bent, is wi on one side of it and the other of the true surface (a
+    reflection that would leave through the triangle, a refraction that would
+    not cross it)?"""
+    return bent_normal(bsdf) and (dot(wi, bsdf.n) > 0.0) != (dot(wi, bsdf.ng) > 0.0)
+
+
+@jit_step
 def bent_normal(bsdf):
     """Does its shading normal differ from the geometric one (a smooth mesh)?"""
     n, ng = bsdf.n, bsdf.ng
@@ -323,6 +336,26 @@ def pdf(bsdf, wo, wi):
     return glossy_pdf(bsdf.glossy, bsdf, wo, wi)
 
 
+@jit_step
+def reverse_pdf(bsdf, wo, wi):
+    """The density of wo drawn having come from wi (a bidirectional walk's
+    reverse density): pdf with the record turned to wi's side where wi went
+    through the surface (a rough glass's refraction)."""
+    return pdf(turned(bsdf, wi), wi, wo)
+
+
+@jit_step
+def turned(bsdf, w):
+    """The record as seen from direction w: its normals on w's side, its front
+    the other where w is on the far side of the true surface (only a glossy
+    kind refracts: otherwise the record itself)."""
+    if not any_glossy(bsdf.glossy) or dot(w, bsdf.ng) >= 0.0:
+        return bsdf
+    n, ng = bsdf.n, bsdf.ng
+    return Bsdf(bsdf.kind, bsdf.albedo, bsdf.params, (-n[0], -n[1], -n[2]), not bsdf.front,
+                (-ng[0], -ng[1], -ng[2]), bsdf.glossy)
+
+
 # The glossy kinds' functions (flags.GLOSSY), each behind `glossy`: None in a
 # scene without one, and Numba prunes the rest of the function before typing
 # it, so that scene's kernels hold none of their code.
@@ -335,6 +368,12 @@ def glossy_sample(glossy, bsdf, wo, u1, u2, smp):
         wi, weight, p = rough_conductor.sample(bsdf, wo, u1, u2)
         wi, weight, p = smooth_drawn(bsdf, wi, weight, p)
         return wi, weight, p, smp
+    if bsdf.kind == ROUGH_DIELECTRIC:
+        u, smp = sampler.uniform(smp)
+        wi, weight, p = rough_dielectric.sample(bsdf, wo, u1, u2, u)
+        if crosses_wrongly(bsdf, wi):
+            return wi, NO_COLOR, 0.0, smp
+        return wi, weight, p, smp
     return NO_DIRECTION, NO_COLOR, 0.0, smp
 
 
@@ -346,6 +385,10 @@ def glossy_eval(glossy, bsdf, wo, wi, scale):
         if behind(bsdf, wi):
             return bsdf.albedo, 0.0
         return rough_conductor.eval(bsdf, wo, wi, scale)
+    if bsdf.kind == ROUGH_DIELECTRIC:
+        if crosses_wrongly(bsdf, wi):
+            return bsdf.albedo, 0.0
+        return rough_dielectric.eval(bsdf, wo, wi, scale)
     return NO_COLOR, 0.0
 
 
@@ -357,6 +400,10 @@ def glossy_pdf(glossy, bsdf, wo, wi):
         if behind(bsdf, wi):
             return 0.0
         return rough_conductor.pdf(bsdf, wo, wi)
+    if bsdf.kind == ROUGH_DIELECTRIC:
+        if crosses_wrongly(bsdf, wi):
+            return 0.0
+        return rough_dielectric.pdf(bsdf, wo, wi)
     return 0.0
 
 
@@ -366,6 +413,8 @@ def glossy_adjoint(glossy, bsdf, wo, wi):
         return 1.0
     if bsdf.kind == ROUGH_CONDUCTOR:
         return rough_conductor.adjoint(bsdf, wo, wi)
+    if bsdf.kind == ROUGH_DIELECTRIC:
+        return rough_dielectric.adjoint(bsdf, wo, wi)
     return 1.0
 
 
