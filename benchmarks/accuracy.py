@@ -5,7 +5,8 @@
 
 For the books' cornell_box (300x300) and cornell_glass (150x150 and, as
 cornell_glass@300, 300x300), and the scenes made to break one strategy each
-(caustic, glass_lamp, tiny_light, mirror_light, 100x100; --scenes picks some),
+(caustic, glass_lamp, tiny_light, mirror_light, 100x100) and the glossy
+materials' cornell_rough (100x100; --scenes picks some),
 against independent references
 rendered by Mitsuba 3 (the folder RTWEEKEND_REFERENCES names, else
 ../shared/references beside the repository, else the copies in
@@ -79,7 +80,10 @@ FAILURES = {name: dict(width=100, height=100, max_spp=4096, crop_seconds=4.0,
             for name, spp, mask in (("caustic", 206848, None), ("glass_lamp", 155648, None),
                                     ("tiny_light", 198656, 2.0),
                                     ("mirror_light", 262144, None))}
-FULL = {**BOOKS, **FAILURES}
+# Glossy materials (GGX microfacets): a rough gold box and a frosted glass ball.
+GLOSSY = {"cornell_rough": dict(width=100, height=100, max_spp=2048, crop_seconds=4.0,
+                                reference="cornell_rough_100", reference_spp=65536)}
+FULL = {**BOOKS, **FAILURES, **GLOSSY}
 QUICK = {name: dict(cfg, max_spp=4, crop_seconds=0.05) for name, cfg in FULL.items()}
 FIT_FROM_SPP = 8        # fit the slope where per-pass overheads no longer matter
 SEED = 2024             # the renders measured; references use other seeds

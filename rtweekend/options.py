@@ -70,15 +70,16 @@ SAMPLINGS = {
 }
 # The default: the strategy with the lowest error at equal time, by what the
 # scene holds (benchmarks/strategies.py and accuracy.py; docs/accuracy.md).
-# Where emitters light metal or glass (delta materials: path/materials/flags.py)
-# that is a noticeable part of the scene (SPECULAR_SHARE of its surface area or
-# more), bidirectional path tracing finds the caustics and the light through
-# glass or off mirrors that camera paths find only by chance, and its caustic
-# photon maps the caustics seen
-# through glass where the lights list names what to aim them at; elsewhere it
-# pays for connections that find little new.  Measured (benchmarks/strategies.py):
-# next_week_final (0.7% metal or glass) 1.56x the mixture's error; caustic 0.56x
-# and cornell_glass 0.48x with photons.  "mixture" is the books'.
+# Where emitters light metal or glass, smooth or rough (delta and glossy
+# materials: path/materials/flags.py), that is a noticeable part of the scene
+# (SPECULAR_SHARE of its surface area or more), bidirectional path tracing finds
+# the caustics and the light through glass or off mirrors that camera paths find
+# only by chance, and its caustic photon maps the caustics seen through smooth
+# glass where the lights list names what to aim them at; elsewhere it pays for
+# connections that find little new.  Measured (benchmarks/strategies.py and
+# accuracy.py): next_week_final (0.7% metal or glass) 1.56x the mixture's error;
+# caustic 0.56x and cornell_glass 0.48x with photons; cornell_rough (rough
+# metal, frosted glass) 0.2x.  "mixture" is the books'.
 DEFAULT_SAMPLING = "mixture+sobol"
 SPECULAR_DEFAULT = "bdpt+sobol"
 PHOTONS_DEFAULT = "bdpt+photons"
@@ -276,14 +277,16 @@ class RenderOptions:
 def default_sampling(scene):
     """The sampling a path-traced scene gets when none is asked for:
     bidirectional (SPECULAR_DEFAULT, or PHOTONS_DEFAULT where its caustic maps
-    serve: photons_serve) when it has an emitter and metal or glass make up at
-    least SPECULAR_SHARE of its surfaces' area, else DEFAULT_SAMPLING."""
-    from .path.materials import DELTA, EMITS, kind_has
+    serve: photons_serve) when it has an emitter and metal or glass, smooth or
+    rough, make up at least SPECULAR_SHARE of its surfaces' area, else
+    DEFAULT_SAMPLING."""
+    from .path.materials import DELTA, EMITS, GLOSSY, kind_has
     surfaces = [shape for shape in scene.objects if not shape.medium]
     if not any(kind_has(shape.material.kind, EMITS) for shape in surfaces):
         return DEFAULT_SAMPLING
     total = sum(shape.area for shape in surfaces)
-    specular = sum(shape.area for shape in surfaces if kind_has(shape.material.kind, DELTA))
+    specular = sum(shape.area for shape in surfaces
+                   if kind_has(shape.material.kind, DELTA | GLOSSY))
     if specular < SPECULAR_SHARE * total:
         return DEFAULT_SAMPLING
     return PHOTONS_DEFAULT if photons_serve(scene) else SPECULAR_DEFAULT
@@ -292,7 +295,8 @@ def default_sampling(scene):
 def photons_serve(scene):
     """Do bdpt's caustic photon maps serve `scene`?  They start on its emitters,
     are aimed at the lights list's objects that do not emit (attractors, such as a glass ball),
-    and do not scatter in media or move with time (path/integrators/photons.py)."""
+    follow smooth glass and mirrors (delta materials), and do not scatter in media or move
+    with time (path/integrators/photons.py)."""
     return photons_skipped(scene) is None
 
 
@@ -305,6 +309,9 @@ def photons_skipped(scene):
         return "no photon targets in lights"
     if any(shape.medium or shape.moving for shape in scene.objects):
         return "no photon maps with media or motion blur"
+    from .path.materials import DELTA, kind_has
+    if not any(kind_has(shape.material.kind, DELTA) for shape in scene.objects):
+        return "no smooth glass or mirror for caustics"
     return None
 
 

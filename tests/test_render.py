@@ -178,6 +178,9 @@ def test_the_default_sampling_follows_from_what_the_scene_holds():
     assert used(rt.load_scene("next_week_final")) == "mixture+sobol"   # 0.7%
     assert used(rt.load_scene("cornell_box")) == "mixture+sobol"
     assert used(rt.load_scene("weekend")) == "mixture+sobol"           # no emitter: the sky
+    # rough metal and frosted glass count; no smooth glass: no photon maps
+    assert used(rt.load_scene("cornell_rough")) == "bdpt+sobol"
+    assert used(rt.load_scene("cornell_rough"), sampling="bdpt+photons") == "bdpt+sobol"
     assert used(rt.load_scene("cornell_glass"), sampling="nee") == "nee"
     box = rt.load_scene("cornell_box")               # walls, light and boxes: 1.99e6
     box.add(rt.sphere((400, 50, 100), 30, rt.dielectric(1.5)))         # 0.57%: too little
