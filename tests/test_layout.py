@@ -136,3 +136,17 @@ def test_pyproject_lists_every_subpackage():
     found = {".".join(p.parent.relative_to(REPO).parts)
              for p in PACKAGE.rglob("__init__.py")}
     assert found <= listed, f"not in pyproject.toml: {sorted(found - listed)}"
+
+
+def test_no_compiled_function_takes_more_than_twelve_arguments():
+    # A long signature is a sign that a concept has no name: a subpath's
+    # vertex arrays, the ray that leaves a vertex, the point on the lens.
+    long = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.FunctionDef) and any(
+                    "jit" in ast.unparse(d) for d in node.decorator_list):
+                count = len(node.args.args) + len(node.args.kwonlyargs)
+                if count > 12:
+                    long.append(f"{path.relative_to(PACKAGE)}: {node.name} ({count})")
+    assert not long, long

@@ -172,11 +172,11 @@ def _costs(count, blo, bhi, parent, cost):
 
 
 @jit_step(exact=True)
-def _split(bounds, centroids, ids, start, end, goes_left, box, bin_of, count, blo, bhi,
-           cost, c3):
+def _split(bounds, centroids, ids, start, end, goes_left, box, bins, cost, c3):
     """Fill goes_left[:n] for the cheapest binned split of ids[start:end];
     False if a leaf is cheaper.  box: the objects' bounds (lo, hi), already
-    made; the other arrays are scratch space."""
+    made; bins = (bin_of, count, blo, bhi), cost and c3: scratch space."""
+    bin_of, count, blo, bhi = bins
     n = end - start
     lo_c, hi_c, extent = c3[0], c3[1], c3[2]
     lo_c[:], hi_c[:] = np.inf, -np.inf
@@ -341,7 +341,7 @@ def _grow(bounds, centroids, ids, start0, end0, depth0, box, node, right, task, 
         # goes_left, bin_of: indexed from start0 (this subtree's scratch).
         split = m > 1 and depth < MEDIAN_FROM_DEPTH and _split(
             bounds, centroids, ids, start, end, goes_left[start - start0:], box[i],
-            bin_of[:, start - start0:], count_b, blo, bhi, cost, c3)
+            (bin_of[:, start - start0:], count_b, blo, bhi), cost, c3)
         if not split and m > LEAF_SIZE:
             _median_split(centroids, ids, start, end, goes_left[start - start0:])
             split = True

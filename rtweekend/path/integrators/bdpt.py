@@ -237,11 +237,14 @@ def first_seen(scene, cf, ci, n, escaped, d, beta):
 
 
 @jit_step
-def camera_strategies(scene, params, cf, ci, lf, li, nc, nl, textures, media, time, smp,
-                      caustics, z):
+def camera_strategies(scene, params, camera_path, light_path, nc, nl, textures, media, time,
+                      smp, caustics, z):
     """Every strategy with t >= 2: (radiance for the pixel, what its camera ray
-    saw emitted, rays traced, smp).  With caustic maps, s = 0 leaves out the
+    saw emitted, rays traced, smp); camera_path, light_path: the subpaths'
+    vertex arrays, (floats, ints) each.  With caustic maps, s = 0 leaves out the
     paths they estimate at camera vertex z (photons.covered)."""
+    cf, ci = camera_path
+    lf, li = light_path
     radiance, seen, rays = ZERO, ZERO, 0
     has_lights = scene.light_f.shape[0] > 0
     for t in range(2, nc + 1):
@@ -268,11 +271,14 @@ def camera_strategies(scene, params, cf, ci, lf, li, nc, nl, textures, media, ti
 
 
 @jit_step
-def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics, cf, ci, lf,
-               li):
+def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics, camera_path,
+               light_path):
     """Samples s0..s1-1 of every pixel of row y: the camera's part to the pixel,
     light tracing's splatted; with caustic maps (photons.py), what they give
-    where the camera sees a diffuse surface through glass or in a mirror."""
+    where the camera sees a diffuse surface through glass or in a mirror.
+    camera_path, light_path: the subpaths' vertex arrays, (floats, ints) each."""
+    cf, ci = camera_path
+    lf, li = light_path
     segments = 0
     width = params.width
     want = film.albedo.shape[0] > 0        # feature images: a run-time test, no variant
@@ -307,8 +313,9 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics
                 nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)
                 segments += n
                 mis.accumulate(lf, li, 0, nl)
-            light, seen, n, smp = camera_strategies(scene, params, cf, ci, lf, li, nc, nl,
-                                                    textures, media, time, smp, caustics, z)
+            light, seen, n, smp = camera_strategies(scene, params, camera_path, light_path,
+                                                    nc, nl, textures, media, time, smp,
+                                                    caustics, z)
             radiance, segments = add(radiance, light), segments + n
             for sl in range(2, min(nl, params.max_depth) + 1):
                 n, smp = to_camera(scene, params, film, cf, ci, lf, li, sl, y, media, time,
@@ -331,4 +338,4 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
     caustics_r = by_ref(caustics)
     for k in range(rows.shape[0]):
         render_row(rows[k], film_r, scene_r, params_r, s0, s1, textures_r, media, motion,
-                   caustics_r, cf, ci, lf, li)
+                   caustics_r, (cf, ci), (lf, li))

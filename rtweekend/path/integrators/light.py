@@ -61,10 +61,12 @@ def to_lens(params, p, smp):
 
 
 @jit_step
-def deliver(scene, params, film, light, p, wi, dist, from_obj, from_inside, x, y, source,
-            time, media):
+def deliver(scene, params, film, light, p, lens, from_obj, from_inside, source, time, media):
     """Splat `light` at pixel (x, y) if the segment from p towards the lens is
-    clear (and through the media's transmittance)."""
+    clear (and through the media's transmittance); lens = (wi, dist, x, y), the
+    direction and distance to the point on the lens and where it lands on the
+    film (to_lens)."""
+    wi, dist, x, y = lens
     if not unoccluded(scene, p, wi, dist, from_obj, from_inside, time):
         return
     if media is not None:
@@ -83,8 +85,8 @@ def connect_surface(scene, params, film, hit, bsdf, wo, beta, source, time, medi
     att, f = materials.eval(bsdf, wo, wi, c * materials.eval_adjoint(bsdf, wo, wi))
     if f > 0.0:
         deliver(scene, params, film, (beta[0] * att[0] * f, beta[1] * att[1] * f,
-                                      beta[2] * att[2] * f), hit.p, wi, dist, hit.obj,
-                shapes.enters(scene, hit.obj, hit.n_out, wi), x, y, source, time, media)
+                                      beta[2] * att[2] * f), hit.p, (wi, dist, x, y), hit.obj,
+                shapes.enters(scene, hit.obj, hit.n_out, wi), source, time, media)
     return smp
 
 
@@ -95,8 +97,8 @@ def connect_medium(scene, params, film, p, albedo, beta, source, time, media, sm
     wi, dist, c, x, y, on_film, smp = to_lens(params, p, smp)
     if on_film:
         f = isotropic.pdf() * c
-        deliver(scene, params, film, scale(mul(beta, albedo), f), p, wi, dist, NO_HIT, False,
-                x, y, source, time, media)
+        deliver(scene, params, film, scale(mul(beta, albedo), f), p, (wi, dist, x, y),
+                NO_HIT, False, source, time, media)
     return smp
 
 
@@ -111,8 +113,8 @@ def start_on_a_light(scene, params, film, source, time, textures, media, smp):
     wi, dist, c, x, y, on_film, smp = to_lens(params, p, smp)
     cosine = wi[0] * n[0] + wi[1] * n[1] + wi[2] * n[2]
     if on_film and cosine > 0.0 and params.max_depth >= 1:
-        deliver(scene, params, film, scale(beta, cosine * c), p, wi, dist, k,
-                shapes.enters(scene, k, n, wi), x, y, source, time, media)
+        deliver(scene, params, film, scale(beta, cosine * c), p, (wi, dist, x, y), k,
+                shapes.enters(scene, k, n, wi), source, time, media)
     u1, u2, smp = sampler.next_2d(smp)
     d = lambertian.cosine_at(n, u1, u2)       # about the front: the density is cos / pi
     return p, d, k, shapes.enters(scene, k, n, d), scale(beta, math.pi), smp

@@ -155,13 +155,14 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
 
 
 @jit_step
-def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x, looking):
+def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x):
     """The radiance along the camera ray (o, d): (radiance, seen, segments, smp),
-    seen being what the camera ray saw emitted (no firefly: film.py).  When
-    `looking` (the film keeps feature images), the albedo and normal of what the
-    path first sees through mirrors and glass, and the light it emits, go to
-    pixel (x, y) of the film there and then (nothing more to carry round the
-    loop)."""
+    seen being what the camera ray saw emitted (no firefly: film.py).  When the
+    film keeps feature images (a run-time test, no variant), the albedo and
+    normal of what the path first sees through mirrors and glass, and the light
+    it emits, go to pixel (x, y) of the film there and then (nothing more to
+    carry round the loop)."""
+    looking = film.albedo.shape[0] > 0
     use_lights = scene.lights.shape[0] > 0 and params.light_weight > 0.0
     radiance, seen, beta = ZERO, ZERO, ONE
     # np.int64 / np.bool_: typed as plain int64 and bool from the start, not as
@@ -247,7 +248,6 @@ def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
     """Trace samples s0..s1-1 of every pixel of row y into the film."""
     segments = 0
     width = params.width
-    want = film.albedo.shape[0] > 0        # feature images: a run-time test, no variant
     for x in range(width):
         pixel = y * width + x
         for s in range(s0, s1):
@@ -258,7 +258,7 @@ def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
             else:
                 time = None
             radiance, seen, n, smp = trace(scene, params, o, d, time, smp, events, textures,
-                                           media, film, y, x, want)
+                                           media, film, y, x)
             segments += n
             films.add_sample(film, y, x, s, radiance[0], radiance[1], radiance[2],
                              params.clamp, seen[0], seen[1], seen[2])

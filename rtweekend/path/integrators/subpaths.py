@@ -46,13 +46,15 @@ def set_reverse(vf, i, pdf):
 
 
 @jit_step(inline=False)
-def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, start,
-         adjoint, textures, media, time, smp):
-    """Extend the subpath whose last vertex is n - 1 (at o, leaving along d with
-    throughput beta, drawn with solid-angle density pdf_dir) up to `limit`
-    vertices; adjoint: it carries light (materials.adjoint).  Returns
-    (vertices, escaped, d, beta, segments, smp): escaped, the
-    last ray left the scene along d with throughput beta."""
+def walk(scene, path, n, ray, beta, limit, start, adjoint, textures, media, time, smp):
+    """Extend the subpath whose vertex arrays are path (vf, vi) and whose last
+    vertex is n - 1 up to `limit` vertices, from the ray that leaves it, ray =
+    (o, d, pdf_dir, from_obj, from_inside): at o along d, drawn with
+    solid-angle density pdf_dir, with throughput beta; adjoint: it carries
+    light (materials.adjoint).  Returns (vertices, escaped, d, beta, segments,
+    smp): escaped, the last ray left the scene along d with throughput beta."""
+    vf, vi = path
+    o, d, pdf_dir, from_obj, from_inside = ray
     segments = 0
     while n < limit:
         k, t = closest_hit(scene, o, d, INF, from_obj, from_inside, time)
@@ -62,7 +64,7 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
             if medium != NO_HIT:            # scattered in a medium, at no surface
                 p = madd(o, d, tm)
                 albedo = color_of(scene, textures, medium, p, np.int64(NO_HIT), time)
-                put(vf, vi, n, MEDIUM, p, ZERO, ZERO, beta, albedo, materials.NO_PARAMS, NO_HIT,
+                put(path, n, MEDIUM, p, (ZERO, ZERO), beta, albedo, materials.NO_PARAMS, NO_HIT,
                     materials.kind_of(scene, medium),
                     False, pdf_dir)
                 n += 1
@@ -84,7 +86,7 @@ def walk(scene, vf, vi, n, o, d, beta, pdf_dir, from_obj, from_inside, limit, st
         hit = surface_at(scene, textures, k, o, d, t, time)
         bsdf = materials.at(scene, hit)
         ns = hit.n if hit.front else neg(hit.n)        # the shading normal, outward
-        put(vf, vi, n, SURFACE, hit.p, hit.n_out, ns, beta, hit.albedo, bsdf.params, k,
+        put(path, n, SURFACE, hit.p, (hit.n_out, ns), beta, hit.albedo, bsdf.params, k,
             bsdf.kind, materials.delta(bsdf), pdf_dir)
         n += 1
         if n >= limit or not materials.scatters(bsdf):
@@ -116,18 +118,18 @@ def camera_subpath(scene, params, vf, vi, x, y, textures, media, time, smp):
     """The camera subpath of a sample of pixel (x, y): (vertices, escaped, d,
     beta, segments, smp) as walk returns them."""
     o, d, smp = camera.sample_ray(params.cam, x, y, params.width, params.height, smp)
-    put(vf, vi, 0, CAMERA, o, ZERO, ZERO, ONE, ZERO, materials.NO_PARAMS, NO_HIT, 0, False,
+    put((vf, vi), 0, CAMERA, o, (ZERO, ZERO), ONE, ZERO, materials.NO_PARAMS, NO_HIT, 0, False,
         1.0)
-    return walk(scene, vf, vi, 1, o, d, ONE, camera.pdf_direction(params.cam, d),
-                np.int64(NO_HIT), np.bool_(False), params.max_depth + 1, 1.0, False, textures,
-                media, time, smp)
+    ray = (o, d, camera.pdf_direction(params.cam, d), np.int64(NO_HIT), np.bool_(False))
+    return walk(scene, (vf, vi), 1, ray, ONE, params.max_depth + 1, 1.0, False, textures, media,
+                time, smp)
 
 
 @jit_step
 def light_subpath(scene, params, vf, vi, textures, media, time, smp):
     """The light subpath of a sample: (vertices, segments, smp)."""
     k, p, n, emit, origin, smp = lights.light_point(scene, textures, time, smp)
-    put(vf, vi, 0, LIGHT, p, n, n, scale(emit, 1.0 / origin), emit, materials.NO_PARAMS, k,
+    put((vf, vi), 0, LIGHT, p, (n, n), scale(emit, 1.0 / origin), emit, materials.NO_PARAMS, k,
         materials.kind_of(scene, k), False,
         origin)
     u1, u2, smp = sampler.next_2d(smp)
@@ -136,7 +138,7 @@ def light_subpath(scene, params, vf, vi, textures, media, time, smp):
     start = max(beta[0], beta[1], beta[2])
     if not start > 0.0 or params.max_depth < 2:
         return 1, 0, smp
-    vertices, _, _, _, segments, smp = walk(
-        scene, vf, vi, 1, p, d, beta, lambertian.cosine_pdf(n, d), k, shapes.enters(scene, k, n, d),
-        params.max_depth, start, True, textures, media, time, smp)
+    ray = (p, d, lambertian.cosine_pdf(n, d), k, shapes.enters(scene, k, n, d))
+    vertices, _, _, _, segments, smp = walk(scene, (vf, vi), 1, ray, beta, params.max_depth, start,
+                                            True, textures, media, time, smp)
     return vertices, segments, smp

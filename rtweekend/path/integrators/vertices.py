@@ -67,11 +67,14 @@ ZERO = (0.0, 0.0, 0.0)
 
 
 @jit_step
-def put(vf, vi, i, kind, p, n, ns, beta, color, params, obj, mkind, delta, density):
-    """Write vertex i, and its WO and BACK towards vertex i - 1 (its REV is set
-    later, when the next vertex is drawn).  n, ns: its geometric and shading
-    normals (outward); density: vertex 0's area density, or the solid-angle
-    density vertex i - 1 drew it with (FWD is its area density)."""
+def put(path, i, kind, p, normals, beta, color, params, obj, mkind, delta, density):
+    """Write vertex i of path (its arrays: vf, vi), and its WO and BACK towards
+    vertex i - 1 (its REV is set later, when the next vertex is drawn).
+    normals: its geometric and shading normals (outward); density: vertex 0's
+    area density, or the solid-angle density vertex i - 1 drew it with (FWD is
+    its area density)."""
+    vf, vi = path
+    n, ns = normals
     wo, back, fwd = ZERO, 0.0, density
     if i > 0:
         wo, dist = toward(p, col(vf, i - 1, P))
