@@ -76,10 +76,8 @@ SAMPLINGS = {
 # the caustics and the light through glass or off mirrors that camera paths find
 # only by chance, and its caustic photon maps the caustics seen through smooth
 # glass where the lights list names what to aim them at; elsewhere it pays for
-# connections that find little new.  Measured (benchmarks/strategies.py and
-# accuracy.py): next_week_final (0.7% metal or glass) 1.56x the mixture's error;
-# caustic 0.56x and cornell_glass 0.48x with photons; cornell_rough (rough
-# metal, frosted glass) 0.2x.  "mixture" is the books'.
+# connections that find little new (benchmarks/strategies.py and accuracy.py;
+# the figures: benchmarks/results/measurements.md).  "mixture" is the books'.
 DEFAULT_SAMPLING = "mixture+sobol"
 SPECULAR_DEFAULT = "bdpt+sobol"
 PHOTONS_DEFAULT = "bdpt+photons"

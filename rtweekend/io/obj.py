@@ -1,7 +1,7 @@
 """Wavefront OBJ files, read by compiled code: the common subset, fast.
 
-A million-triangle OBJ is 50 MB of text; trimesh reads it in Python and NumPy
-in about 3 s, which was a fifth of a whole render of it.  This reads the
+A million-triangle OBJ is 50 MB of text; trimesh reads it in Python and NumPy,
+a large part of a whole render of it.  This reads the
 lines rtweekend needs -- `v`, `vt`, `vn` and `f` (polygons as fans, corners
 `v`, `v/vt`, `v//vn`, `v/vt/vn`, negative indices counted back from the
 vertices read so far) -- and skips the rest (`o`, `g`, `s`, `usemtl`,
@@ -24,8 +24,7 @@ are given only when every corner names one.
 The reader's parts (a number, an index, a corner) are steps (jit_step, exact:
 no fastmath), typed once and inlined into _scan as IR: compiled as functions
 of their own, each with its wrapper and reference counting, they made the
-first read of a file 1.3 s slower (4.7 s against 3.5 s, median of three fresh
-processes), and reading 300,000 triangles took 0.26 s against 0.12 s.
+first read of a file and every read slower (benchmarks/results/measurements.md).
 """
 import numpy as np
 

@@ -13,9 +13,9 @@ import time
 
 from ..errors import SceneError
 
-# Seconds between updates: an update (the result and its PNG) takes 14-17 ms
-# at 300x300 and the passes wait for it, so at this interval it costs at most
-# about 2.3% (benchmarks/preview.py).
+# Seconds between updates: the passes wait for an update (the result and its
+# PNG), so the interval bounds what previews cost (benchmarks/preview.py;
+# benchmarks/results/measurements.md).
 MIN_INTERVAL = 0.75
 
 

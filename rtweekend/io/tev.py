@@ -26,8 +26,8 @@ DEFAULT = ("127.0.0.1", 14158)       # tev's own default
 CREATE, UPDATE = 4, 6
 TILE = 128
 CHANNELS = ("R", "G", "B", "stderr.R", "stderr.G", "stderr.B")
-# Seconds between updates: one takes 8-9 ms at 300x300, so at most 1.8% of a
-# render whose passes wait for it (benchmarks/preview.py).
+# Seconds between updates: the passes wait for one, so the interval bounds
+# what it costs (benchmarks/preview.py; benchmarks/results/measurements.md).
 MIN_INTERVAL = 0.5
 
 

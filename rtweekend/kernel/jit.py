@@ -29,8 +29,7 @@ from .step_library import KernelCompiler, StepCache, StepCompiler
 # loading it from the cache, ran the other -- the first render and the next
 # gave different bits for the same seed (whole different paths in
 # bouncing_spheres).  Without them both copies compute the same values
-# (tests/test_cache.py); they were worth about 6% of cornell_glass's speed
-# (benchmarks/results/measurements.md).
+# (tests/test_cache.py); what they were worth: benchmarks/results/measurements.md.
 FASTMATH = {"nsz", "arcp", "afn"}
 
 # error_model='numpy': a division by zero gives inf or nan instead of raising,
@@ -169,11 +168,10 @@ def jit_step(fn=None, *, inline=True, exact=False):
     Every compiled helper of the kernels is one, down to vec3's dot.  Why not
     the alternatives: Numba's own inlining (inline="always") copies the
     callee's IR into each caller and types it again there, and typing is most of
-    a compile (about 1 ms per statement): the path loop written that way took
-    8 s to compile.  A plain call passes every array of a NamedTuple argument,
-    and returns a tuple, through memory: on the per-bounce helpers that cost
-    5-25% of the speed.  Compiled apart and always inlined, each step is typed
-    once and runs as if written in place.
+    a compile.  A plain call passes every array of a NamedTuple argument, and
+    returns a tuple, through memory, which the per-bounce helpers feel.
+    Compiled apart and always inlined, each step is typed once and runs as if
+    written in place (benchmarks/results/measurements.md has the figures).
 
     No reference counting (Numba's NRT off, an option that is not public API):
     a step takes the kernel's arrays, which the kernel holds for the whole call,

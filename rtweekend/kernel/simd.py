@@ -4,9 +4,9 @@ watertight test of a leaf's four triangles, as vector code (LLVM's
 
 Numba compiles scalar code, and leaves LLVM's SLP vectoriser off, so a wide
 node's four box tests (wide_bvh.py) ran one after the other; as vector
-operations a node visit costs about a fifth less, and a leaf's triangles
-tested together make incoherent rays 1.2x as fast again (benchmarks/meshes.py,
-docs/performance.md).
+operations a node visit costs less, and a leaf's triangles tested together
+make incoherent rays faster again (benchmarks/meshes.py, docs/performance.md,
+benchmarks/results/measurements.md).
 
 The arithmetic is the scalar code's, lane by lane and in the same order --
 Numba's own max and min (max(p, q) = q if q > p else p: a NaN from 0 x inf

@@ -128,9 +128,8 @@ class KernelLibrary(JITCodeLibrary):
     A kernel's steps arrive optimised already, function by function at O3 (as
     Numba adds each one's IR); what is left once they are inlined is folding
     the kernel's constants and arguments through them, which O1 does: the
-    kernels run as fast as at O3 (paired on cornell_glass, bdpt+photons
-    1.003x and mixture 1.019x) with the same bits, and bdpt's kernel
-    compiles about a second sooner."""
+    kernels run as fast as at O3 with the same bits, and compile sooner
+    (benchmarks/results/measurements.md)."""
 
     def _optimize_final_module(self):
         cheap, cheap_builder = self._codegen._module_pass_manager(

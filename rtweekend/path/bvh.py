@@ -81,8 +81,8 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
     `time` on the shutter (None: nothing moves).
 
     A scene with a hierarchy walks it 4-wide, nearer children first
-    (wide_bvh.py: 1.2-1.4x the rays per second of the binary tree's stackless
-    walk on weekend and next_week_final); a small one tests every object
+    (wide_bvh.py: faster than the binary tree's stackless walk, by
+    benchmarks/results/measurements.md); a small one tests every object
     (stackless_walk with no nodes).  Which runs is decided when compiling
     (scene.wide is None or not), and only that one is compiled.
     """

@@ -16,8 +16,8 @@ Collapse: a wide node starts with one binary node and opens, while it has
 fewer than four children, its child of largest surface area that is not a
 leaf (the SAH's measure of how often a ray enters it).  A subtree of at most
 MERGE objects becomes one leaf: fewer nodes to visit for more triangle tests,
-which come four at a time (on a 1.3 M-triangle mesh, MERGE 12 against 4:
-1.12x the camera rays per second, 1.07x the diffuse bounces; 16 no better).
+which come four at a time (MERGE chosen by rays per second on a large mesh:
+benchmarks/results/measurements.md).
 Nodes are numbered depth first.
 
     wide_box[w, r, c]  row r (min x, y, z, max x, y, z) of child c's box;

@@ -7,10 +7,10 @@ Why: such a path -- light, glass, floor, glass, camera: the caustic under a
 glass ball seen through the ball -- has one strategy in bdpt only, the camera
 subpath reaching the emitter through the glass by chance (s = 0): light
 tracing cannot join the camera through glass, nor a shadow ray cross it.
-With a small light those pixels held 96-99% of bdpt's squared error on the
-caustic scene.  A photon map estimates the light arriving at the floor point
-from many light paths at once, at the price of a bias that shrinks as the
-radius does.
+With a small light those pixels held almost all of bdpt's squared error on
+the caustic scene (benchmarks/results/measurements.md).  A photon map
+estimates the light arriving at the floor point from many light paths at
+once, at the price of a bias that shrinks as the radius does.
 
 The paths it takes over, exactly: camera, one or more delta vertices (metal,
 glass), a lambertian point z -- the first smooth vertex of the camera path --,

@@ -40,7 +40,8 @@ area measure those two densities carry the geometry of the chain's first
 segment only -- 1 / distance^2 to the nearest glass --, so a floor point a few
 units under a glass ball made the camera's random hits on the light through
 the ball look far likelier than light tracing's caustic, and took the
-weight (bdpt's noise there was 10x light tracing's alone).  The densities the
+weight (bdpt was far noisier there than light tracing alone:
+benchmarks/results/measurements.md).  The densities the
 two ways really compare in are per projected solid angle at the smooth end
 vertices: the chain's generalised geometry term (Hanika et al. 2015, manifold
 next-event estimation) is the same both ways and cancels.  So a delta vertex

@@ -12,8 +12,8 @@ rather than stored, so that the row fits OBJ_FLOATS.
 
 A box turned about y alone (the books' rotate_y, every bundled scene's) is
 turned by its cosine and sine in the columns the slab test has always read
-(the full product cost 7% of cornell_box's samples/s); any other rotation by
-the full matrix.
+(the full product was measurably slower: benchmarks/results/measurements.md);
+any other rotation by the full matrix.
 
 A ray leaving the box outward never meets it again (it is convex); one that went
 inside meets it next where it leaves it, at the slab test's far distance: so no
