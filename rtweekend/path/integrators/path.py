@@ -17,7 +17,8 @@ function below:
   roulette          dim paths end early, unbiased (next-event estimation only)
 
 light_weight (PathParams) is the mixture's share of the lights list: the books
-use 0.5, 0 is The Next Week's cosine sampling, 1 samples lights only.  max_depth
+use 0.5, 0 is The Next Week's cosine sampling, 1 samples lights only; a glossy
+hit draws from its own lobe alone.  max_depth
 counts ray segments, as the books' depth does; shadow rays count as rays in the
 statistics, not as segments of max_depth.
 
@@ -38,6 +39,7 @@ from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
 from .. import materials, media as volumes, nee, pdf, shapes
+from ..materials import GLOSSY
 from ..bvh import closest_hit
 from ..camera import sample_ray
 from ..film import SEGMENTS
@@ -133,6 +135,12 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
     with (continuation, for MIS; 0 when not needed); ok False: d carries no
     light (the path ends)."""
     lw = pdf.mixture_weight(scene, hit.p, params.light_weight)
+    if materials.any_glossy(bsdf.glossy) and materials.has(bsdf.kind, GLOSSY):
+        # A glossy lobe draws its own directions: the lights list's share would
+        # double the weight of every draw the lobe makes (up to 2 G1 instead of
+        # G1), and a path caught between glossy surfaces -- reflected inside a
+        # frosted ball -- would grow without bound, kept by roulette.
+        lw = 0.0
     shadow = no_shadow(hit.p, wo)
     if events is not None:
         target, sd, s_inside, st, light, state = nee.shadow_ray(
