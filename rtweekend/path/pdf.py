@@ -46,10 +46,17 @@ def behind_every_light(sides, p):
 
 
 @jit_step
-def mixture_weight(scene, p, light_weight):
-    """The mixture's weight on the lights list at p: 0 where no light of it
-    shines (Sampling.facing: scene.dark_sides, empty for the other strategies),
-    so that the material's sampling alone draws there."""
+def mixture_weight(scene, bsdf, p, light_weight):
+    """The mixture's weight on the lights list at p, on the material of record
+    bsdf: 0 where no light of it shines (Sampling.facing: scene.dark_sides,
+    empty for the other strategies), and at a glossy material, so that the
+    material's sampling alone draws there.  Mixed into a narrow lobe, the
+    lights list's share would double the weight of every draw the lobe makes
+    (up to 2 G1 instead of G1), and a path caught between glossy surfaces --
+    reflected inside a frosted ball named in the list -- would grow without
+    bound, kept by roulette."""
+    if materials.is_glossy(bsdf):
+        return 0.0
     if scene.dark_sides.shape[0] > 0 and behind_every_light(scene.dark_sides, p):
         return 0.0
     return light_weight

@@ -39,7 +39,6 @@ from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
 from .. import materials, media as volumes, nee, pdf, shapes
-from ..materials import GLOSSY
 from ..bvh import closest_hit
 from ..camera import sample_ray
 from ..film import SEGMENTS
@@ -134,13 +133,7 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
     weight, continuation, ok, smp): weight = f |cos| / the density d was drawn
     with (continuation, for MIS; 0 when not needed); ok False: d carries no
     light (the path ends)."""
-    lw = pdf.mixture_weight(scene, hit.p, params.light_weight)
-    if materials.any_glossy(bsdf.glossy) and materials.has(bsdf.kind, GLOSSY):
-        # A glossy lobe draws its own directions: the lights list's share would
-        # double the weight of every draw the lobe makes (up to 2 G1 instead of
-        # G1), and a path caught between glossy surfaces -- reflected inside a
-        # frosted ball -- would grow without bound, kept by roulette.
-        lw = 0.0
+    lw = pdf.mixture_weight(scene, bsdf, hit.p, params.light_weight)
     shadow = no_shadow(hit.p, wo)
     if events is not None:
         target, sd, s_inside, st, light, state = nee.shadow_ray(

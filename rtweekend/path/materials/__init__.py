@@ -419,6 +419,13 @@ def glossy_adjoint(glossy, bsdf, wo, wi):
 
 
 @jit_step
+def is_glossy(bsdf):
+    """Is the record's kind a glossy one (flags.GLOSSY)?  False, compiled away,
+    in a scene without one."""
+    return any_glossy(bsdf.glossy) and has(bsdf.kind, GLOSSY)
+
+
+@jit_step
 def any_glossy(glossy):
     """Has the scene a glossy kind (SceneArrays.glossy)?  A constant, for a
     test that a scene without one compiles away."""
