@@ -218,7 +218,8 @@ material = "grey"
 
 
 def test_the_spinner_is_up_before_the_first_compile(tmp_path):
-    (tmp_path / "tri.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")
+    # A backslash (in a comment): a file for the compiled reader (io/obj_lines.py).
+    (tmp_path / "tri.obj").write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\n# by hand \\\nf 1 2 3\n")
     (tmp_path / "mesh.toml").write_text(MESH_SCENE)
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "empty_cache"))
     run = subprocess.run([sys.executable, "-c", SPINNER_UP, str(tmp_path / "mesh.toml"),

@@ -29,6 +29,7 @@ first read of a file and every read slower (benchmarks/results/measurements.md).
 import numpy as np
 
 from ..kernel.jit import jit_host, jit_step
+from . import obj_lines
 
 MAX_DIGITS = 15
 MAX_EXP10 = 22
@@ -331,7 +332,7 @@ AHEAD_BYTES = 4096
 def _builder_ahead():
     """A mesh this long will be searched through a BVH: a helper process
     standing by compiles the builder, if it is not compiled yet, while this
-    one reads the file (compiling the reader) and compiles the kernels
+    one reads the file (a large one by the compiled reader) and compiles the kernels
     (kernel/compile_workers.py, path/renderer.py)."""
     from ..kernel import compile_workers
     from ..path import wide_bvh
@@ -351,23 +352,14 @@ def read(path, fits=None):
         _builder_ahead()
     if text[:3].tobytes() == b"\xef\xbb\xbf":        # a UTF-8 byte order mark
         text = text[3:]
-    nv, nvt, nvn, nt, nh, status, part, line, word = _scan(
-        text, _POW10, False, np.zeros((0, 3)), np.zeros((0, 2)), np.zeros((0, 3)),
-        np.zeros((0, 3, 3), dtype=np.int64), np.zeros((0, 5), dtype=np.int64))
-    if status != READ:
-        raise _stopped(path, text, status, part, line, word, None, (nv, nvt, nvn))
-    if fits is not None:
-        # The tables, the corners, and making vertices of them (unique keys).
-        fits(8 * (3 * nv + 2 * nvt + 3 * nvn) + 8 * nt * (9 + 3 * 4 + 3), nt)
-    v, vt, vn = np.empty((nv, 3)), np.empty((nvt, 2)), np.empty((nvn, 3))
-    corners = np.empty((nt, 3, 3), dtype=np.int64)
-    hard = np.empty((nh, 5), dtype=np.int64)
-    _, _, _, _, _, status, part, line, word = _scan(text, _POW10, True, v, vt, vn, corners, hard)
-    if status != READ:              # an index beyond the file's tables
-        raise _stopped(path, text, status, part, line, word, (nv, nvt, nvn), None)
-    tables = {V: v, VT: vt, VN: vn}
-    for kind, row, column, start, end in hard:      # beyond the fast path: float()
-        tables[kind][row, column] = float(text[start:end].tobytes())
+
+    def counted(nv, nvt, nvn, nt):
+        if fits is not None:
+            # The tables, the corners, and making vertices of them (unique keys).
+            fits(8 * (3 * nv + 2 * nvt + 3 * nvn) + 8 * nt * (9 + 3 * 4 + 3), nt)
+    plain = obj_lines.read(text.tobytes(), counted) if len(text) <= obj_lines.MAX_BYTES else None
+    v, vt, vn, corners = plain or _scanned(path, text, counted)
+    nv, nvt, nvn, nt = len(v), len(vt), len(vn), len(corners)
     vi, ti, ni = corners[:, :, 0], corners[:, :, 1], corners[:, :, 2]
     # Every index is in range (_scan); a corner's uv or normal counts only if
     # every corner names one.
@@ -388,3 +380,24 @@ def read(path, fits=None):
     uvs = vt[ti.ravel()[first]] if has_uv else None
     normals = vn[ni.ravel()[first]] if has_n else None
     return v[corner_v], inverse.reshape(nt, 3).astype(np.int64), uvs, normals
+
+
+def _scanned(path, text, counted):
+    """(v, vt, vn, corners) of the file's bytes by the compiled scan: counted,
+    then read into tables made to size."""
+    nv, nvt, nvn, nt, nh, status, part, line, word = _scan(
+        text, _POW10, False, np.zeros((0, 3)), np.zeros((0, 2)), np.zeros((0, 3)),
+        np.zeros((0, 3, 3), dtype=np.int64), np.zeros((0, 5), dtype=np.int64))
+    if status != READ:
+        raise _stopped(path, text, status, part, line, word, None, (nv, nvt, nvn))
+    counted(nv, nvt, nvn, nt)
+    v, vt, vn = np.empty((nv, 3)), np.empty((nvt, 2)), np.empty((nvn, 3))
+    corners = np.empty((nt, 3, 3), dtype=np.int64)
+    hard = np.empty((nh, 5), dtype=np.int64)
+    _, _, _, _, _, status, part, line, word = _scan(text, _POW10, True, v, vt, vn, corners, hard)
+    if status != READ:              # an index beyond the file's tables
+        raise _stopped(path, text, status, part, line, word, (nv, nvt, nvn), None)
+    tables = {V: v, VT: vt, VN: vn}
+    for kind, row, column, start, end in hard:      # beyond the fast path: float()
+        tables[kind][row, column] = float(text[start:end].tobytes())
+    return v, vt, vn, corners
