@@ -275,9 +275,10 @@ class RenderOptions:
 def default_sampling(scene):
     """The sampling a path-traced scene gets when none is asked for:
     bidirectional (SPECULAR_DEFAULT, or PHOTONS_DEFAULT where its caustic maps
-    serve: photons_serve) when it has an emitter and metal or glass, smooth or
-    rough, make up at least SPECULAR_SHARE of its surfaces' area, else
-    DEFAULT_SAMPLING."""
+    serve: path/integrators/photons.serve) when it has an emitter and metal or
+    glass, smooth or rough, make up at least SPECULAR_SHARE of its surfaces'
+    area, else DEFAULT_SAMPLING."""
+    from .path.integrators import photons
     from .path.materials import DELTA, EMITS, GLOSSY, kind_has
     surfaces = [shape for shape in scene.objects if not shape.medium]
     if not any(kind_has(shape.material.kind, EMITS) for shape in surfaces):
@@ -287,30 +288,7 @@ def default_sampling(scene):
                    if kind_has(shape.material.kind, DELTA | GLOSSY))
     if specular < SPECULAR_SHARE * total:
         return DEFAULT_SAMPLING
-    return PHOTONS_DEFAULT if photons_serve(scene) else SPECULAR_DEFAULT
-
-
-def photons_serve(scene):
-    """Do bdpt's caustic photon maps serve `scene`?  They start on its emitters,
-    are aimed at the lights list's objects that do not emit (attractors, such as a glass ball),
-    follow smooth glass and mirrors (delta materials), and do not scatter in media or move
-    with time (path/integrators/photons.py)."""
-    return photons_skipped(scene) is None
-
-
-def photons_skipped(scene):
-    """Why bdpt+photons renders `scene` as bdpt+sobol, in a few words (the
-    summary says so), or None when its photon maps serve it."""
-    if not any(shape.material.kind == "diffuse_light" for shape in scene.objects):
-        return "no emitter to start photons on"
-    if not any(light.material.kind != "diffuse_light" for light in scene.lights):
-        return "no photon targets in lights"
-    if any(shape.medium or shape.moving for shape in scene.objects):
-        return "no photon maps with media or motion blur"
-    from .path.materials import DELTA, kind_has
-    if not any(kind_has(shape.material.kind, DELTA) for shape in scene.objects):
-        return "no smooth glass or mirror for caustics"
-    return None
+    return PHOTONS_DEFAULT if photons.serve(scene) else SPECULAR_DEFAULT
 
 
 @contextmanager

@@ -150,3 +150,26 @@ def test_no_compiled_function_takes_more_than_twelve_arguments():
                 if count > 12:
                     long.append(f"{path.relative_to(PACKAGE)}: {node.name} ({count})")
     assert not long, long
+
+
+def test_the_renderer_names_no_estimator():
+    # Each estimator declares what it needs of the driver (integrators/needs.py):
+    # the renderer asks it, and imports, calls or names none of them ("path" is
+    # also the integrator's name, beside "classic").
+    from rtweekend.options import SAMPLINGS
+    from rtweekend.path.integrators import ESTIMATORS
+    tree = ast.parse((PACKAGE / "path" / "renderer.py").read_text())
+    modules = set(ESTIMATORS) | {"photons", "mis", "subpaths", "vertices"}
+    named = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.ImportFrom):
+            named |= {a.name for a in node.names} & modules
+            named |= set((node.module or "").split(".")) & modules
+        elif isinstance(node, ast.Name | ast.Attribute):
+            named |= {node.id if isinstance(node, ast.Name) else node.attr} \
+                & {"bdpt", "photons", "caustics"}
+        elif isinstance(node, ast.Constant) and isinstance(node.value, str):
+            named |= {node.value} & (set(ESTIMATORS) | set(SAMPLINGS)) - {"path"}
+    assert named == set(), named
+    for name, module in ESTIMATORS.items():
+        assert isinstance(module.NEEDS.splats, bool), name

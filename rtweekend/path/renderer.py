@@ -24,15 +24,15 @@ from .. import checks, memory
 from ..denoise import denoise as denoise_image
 from ..errors import FieldError, SceneError, SceneWarning
 from ..kernel.rows import interleaved_rows, on_threads
-from ..options import RenderOptions, photons_serve, photons_skipped, thread_count
+from ..options import RenderOptions, thread_count
 from ..result import RenderResult, RenderStats
 from ..scene.scene import Scene
 from . import film as films
 from . import seen_light
 from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
-from .integrators import ESTIMATORS, photons
-from .layout import BG_COLOR, Features, PathParams, SceneArrays
+from .integrators import ESTIMATORS
+from .layout import Features, PathParams, SceneArrays
 from . import pack, wide_bvh
 from .pack import dark_sides, pack_features, pack_scene, scene_bytes
 
@@ -67,11 +67,8 @@ def freeze(scene, options, stand_in=False):
     scene = options.sized(scene)          # one side alone keeps the aspect ratio
     arrays = pack_scene(scene, bvh=options.bvh, stand_in=stand_in)
     strategy = options.strategy
-    next_event = strategy.next_event and len(arrays.emitters) > 0
-    if next_event or strategy.photons:
-        # Emitters are reached by shadow rays: the mixture draws towards the
-        # lights list's other objects only (attractors, e.g. a glass ball).
-        arrays = arrays._replace(lights=np.setdiff1d(arrays.lights, arrays.emitters))
+    needs = ESTIMATORS[strategy.estimator].NEEDS
+    arrays = needs.lights(strategy, arrays)
     if strategy.facing:
         arrays = arrays._replace(dark_sides=dark_sides(arrays))
     camera = scene.resolved_camera()
@@ -80,12 +77,9 @@ def freeze(scene, options, stand_in=False):
                         seed=options.seed, max_depth=max_depth,
                         light_weight=strategy.light_weight if len(arrays.lights) else 0.0,
                         clamp=options.clamp_value, pairs=SOBOL_PAIRS if strategy.sobol else 0)
-    features = Features(strategy.roulette_depth if next_event else None,
-                        *pack_features(scene, arrays))
-    if strategy.photons and photons_serve(scene):
-        features = features._replace(caustics=photons.settings(arrays))
-    if strategy.estimator == "light":
-        _check_light_tracing(options, arrays)
+    features = Features(None, *pack_features(scene, arrays))._replace(
+        **needs.features(strategy, scene, arrays))
+    needs.check(options.sampling, arrays)
     return Frame(arrays, params, interleaved_rows(camera.height), features, strategy.estimator,
                  options.features)
 
@@ -98,35 +92,19 @@ def _missing_kernels(stand_in, options):
     return None if all(loaded(d, signature(args)) for d, args in calls) else calls
 
 
-def _check_light_tracing(options, arrays):
-    """Light tracing starts every path on an emitter: a scene must have one, and
-    no light may come from the background, which such paths never leave from."""
-    name = options.sampling
-    if len(arrays.light_rows) == 0:
-        raise SceneError(f"render: sampling: {name} starts its paths on the scene's "
-                         "emitters (diffuse_light), and this scene has none")
-    if arrays.bg_kind != BG_COLOR or arrays.bg.any():
-        raise SceneError(f"render: sampling: {name} starts its paths on emitters, so it "
-                         "cannot render the light of this scene's background; use "
-                         "another sampling, or a black background")
-
-
 def render_samples(frame, film, s0, s1, rows=None):
     """Add samples s0 .. s1 - 1 of every pixel (of `rows` only: a slice of
     frame.rows) to `film`.  A pixel's sums depend on its sample indices only,
     so rows rendered in several parts give the bits of one whole pass.  With
     every row, a film with splats is folded at each block's end (film.py)."""
-    render_pass = kernel(frame).render_pass
+    estimator = kernel(frame)
     part_of_the_rows = rows is not None
     rows = frame.rows if rows is None else rows
     threads = numba.get_num_threads() if s1 > s0 else 1
     for a, b in _block_parts(s0, s1) if film.splat.size else [(s0, s1)]:
-        features = frame.features
-        if features.caustics is not None and b > a:
-            features = features._replace(caustics=photons.build(
-                features.caustics, frame.scene, frame.params, features.textures, a, b, threads))
-        on_threads(lambda part: render_pass(film, frame.scene, frame.params, part, a, b,
-                                            *features), rows, threads)
+        features = estimator.NEEDS.block(frame, frame.features, a, b, threads)
+        on_threads(lambda part: estimator.render_pass(film, frame.scene, frame.params, part, a,
+                                                      b, *features), rows, threads)
         if film.splat.size and not part_of_the_rows and b > a and b % BLOCK_SPP == 0:
             films.fold_splats(film)
 
@@ -149,11 +127,12 @@ def kernel(frame):
 
 def kernel_calls(frame, film, denoise=False):
     """[(kernel, arguments)] of every kernel a render of `frame` calls, with no
-    samples: the estimator's, the photon maps' tracer, the denoiser's passes."""
-    calls = [(kernel(frame).render_pass, (film, frame.scene, frame.params, frame.rows[:0],
-                                          0, 0, *frame.features))]
-    if frame.features.caustics is not None:
-        calls.append(photons.kernel_call(frame))
+    samples: the estimator's (and those it needs beside it, such as bdpt's
+    photon tracer), the denoiser's passes."""
+    estimator = kernel(frame)
+    calls = [(estimator.render_pass, (film, frame.scene, frame.params, frame.rows[:0],
+                                      0, 0, *frame.features))]
+    calls.extend(estimator.NEEDS.kernels(frame))
     if denoise:
         calls.extend(seen_light.kernel_calls(frame))
     return calls
@@ -165,7 +144,7 @@ def splats(frame):
 
 
 def _splats(estimator):
-    return ESTIMATORS[estimator].SPLATS
+    return ESTIMATORS[estimator].NEEDS.splats
 
 
 def block_film(frame, s0, s1):
@@ -183,12 +162,12 @@ def _check_memory(scene, options):
     scene.check()
     camera = scene.resolved_camera()
     width, height = options.image_size(camera)
-    estimator = ESTIMATORS[options.strategy.estimator]
+    needs = ESTIMATORS[options.strategy.estimator].NEEDS
     scene_part = scene_bytes(scene)
-    maps = photons.map_bytes(BLOCK_SPP) if options.strategy.photons else 0
-    memory.check(films.render_bytes(height, width, estimator.SPLATS, options.features,
+    memory.check(films.render_bytes(height, width, needs.splats, options.features,
                                     bool(options.denoise))
-                 + scene_part + maps, width, height, scene=scene_part, objects=len(scene.objects),
+                 + scene_part + needs.extra_bytes(options.strategy), width, height,
+                 scene=scene_part, objects=len(scene.objects),
                  primitives=sum(shape.primitives for shape in scene.objects),
                  origin=options.size_origin(scene))
 
@@ -224,11 +203,10 @@ class Renderer:
         camera = options.sized(scene).resolved_camera()
         self.width, self.height = camera.width, camera.height
         self.name = scene.name     # what a preview calls the image
-        # What runs, said by the summary: bdpt+photons is bdpt+sobol bit for bit
-        # where its photon maps have nothing to do (options.photons_skipped).
-        self.sampling, self.sampling_note = options.sampling, None
-        if options.strategy.photons and (why := photons_skipped(scene)):
-            self.sampling, self.sampling_note = "bdpt+sobol", why
+        # What runs, said by the summary (another strategy's bits, and why, or
+        # the one asked for).
+        self.sampling, self.sampling_note = ESTIMATORS[options.strategy.estimator].NEEDS \
+            .runs_as(options.strategy, scene) or (options.sampling, None)
         self.film = films.new_film(self.height, self.width,
                                    _splats(options.strategy.estimator), options.features)
         self.spp = 0               # samples per pixel so far, in every pixel

@@ -45,12 +45,16 @@ from ..layout import NO_HIT
 from ..lights import background
 from ..materials import EMITS
 from . import mis, photons
+from .needs import Needs
 from .subpaths import camera_subpath, light_subpath
 from .vertices import (BACK, BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, NS, OBJ, P,
                        SURFACE, TYPE, WO, area_factor, back_density, col, connectible,
                        direction_pdf, light_scatter, on_surface, scatter, toward)
 
-SPLATS = True           # light tracing's strategies splat (film.py)
+# Light tracing's strategies splat (film.py); the photon maps' needs (photons.py).
+NEEDS = Needs(splats=True, lights=photons.aimed_lights, features=photons.features,
+              runs_as=photons.runs_as, extra_bytes=photons.extra_bytes,
+              kernels=photons.kernels, block=photons.block)
 ZERO = (0.0, 0.0, 0.0)
 INV_PI = 1.0 / math.pi
 # A connection's far end may be found by the search a rounding short of it.

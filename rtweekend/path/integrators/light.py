@@ -30,6 +30,7 @@ import math
 
 import numpy as np
 
+from ...errors import SceneError
 from ...kernel import sampler
 from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
@@ -38,12 +39,27 @@ from .. import camera, lights, materials, media as volumes, shapes
 from .. import film as films
 from ..bvh import closest_hit, unoccluded
 from ..film import SEGMENTS
-from ..layout import NO_HIT
+from ..layout import BG_COLOR, NO_HIT
 from ..materials import isotropic, lambertian
 from ..roulette import roulette
 from ..surface import color_of, surface_at
+from .needs import Needs
 
-SPLATS = True           # its film has the splat arrays (film.py)
+
+def _check(sampling, arrays):
+    """Light tracing starts every path on an emitter: a scene must have one, and
+    no light may come from the background, which such paths never leave from."""
+    if len(arrays.light_rows) == 0:
+        raise SceneError(f"render: sampling: {sampling} starts its paths on the scene's "
+                         "emitters (diffuse_light), and this scene has none")
+    if arrays.bg_kind != BG_COLOR or arrays.bg.any():
+        raise SceneError(f"render: sampling: {sampling} starts its paths on emitters, so it "
+                         "cannot render the light of this scene's background; use "
+                         "another sampling, or a black background")
+
+
+NEEDS = Needs(splats=True, check=_check)     # its film has the splat arrays (film.py)
+
 ZERO = (0.0, 0.0, 0.0)
 ROULETTE_DEPTH = 2      # segments before Russian roulette may end a path
 

@@ -39,6 +39,7 @@ from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
 from .. import materials, media as volumes, nee, pdf, shapes
+from .needs import Needs, emitters_left_out
 from ..bvh import closest_hit
 from ..camera import sample_ray
 from ..film import SEGMENTS
@@ -48,7 +49,24 @@ from ..lights import background
 from ..surface import color_of, surface_at
 
 INF = math.inf
-SPLATS = False          # its film has no splat arrays (film.py): samples only
+
+
+def _lights(strategy, arrays):
+    """Next events reach the emitters by shadow rays (needs.emitters_left_out)."""
+    return emitters_left_out(arrays) if _next_events(strategy, arrays) else arrays
+
+
+def _features(strategy, scene, arrays):
+    """With next events, Russian roulette from strategy.roulette_depth."""
+    return {"events": strategy.roulette_depth} if _next_events(strategy, arrays) else {}
+
+
+def _next_events(strategy, arrays):
+    return strategy.next_event and len(arrays.emitters) > 0
+
+
+NEEDS = Needs(splats=False, lights=_lights, features=_features)   # samples only (film.py)
+
 ZERO = (0.0, 0.0, 0.0)
 ONE = (1.0, 1.0, 1.0)
 

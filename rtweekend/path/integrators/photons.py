@@ -51,8 +51,10 @@ from .. import lights, materials, mesh_light, pdf, shapes
 from ..bvh import closest_hit
 from ..bvh_build import object_bounds
 from ..layout import NO_HIT
+from ..film import BLOCK_SPP
 from ..materials import PHOTON
 from ..surface import surface_at
+from .needs import emitters_left_out
 from .vertices import BETA, COLOR, DELTA, MKIND, NG, NS, OBJ, P, SURFACE, TYPE, WO, col
 
 INF = math.inf
@@ -144,6 +146,62 @@ def grid(caustics, maps_f, maps_i, s0):
         photon_f=np.concatenate(sorted_f) if sorted_f else np.zeros((0, PF)),
         photon_i=np.concatenate(sorted_i) if sorted_i else np.zeros((0, 2), dtype=np.int64),
         cell_start=starts, first=np.array(first, dtype=np.int64), radius=radii, s0=s0)
+
+
+def skipped(scene):
+    """Why bdpt+photons renders `scene` as bdpt+sobol, in a few words (the
+    summary says so), or None when its photon maps serve it: they start on its
+    emitters, are aimed at the lights list's objects that do not emit
+    (attractors, such as a glass ball), follow smooth glass and mirrors (delta
+    materials), and do not scatter in media or move with time."""
+    if not any(shape.material.kind == "diffuse_light" for shape in scene.objects):
+        return "no emitter to start photons on"
+    if not any(light.material.kind != "diffuse_light" for light in scene.lights):
+        return "no photon targets in lights"
+    if any(shape.medium or shape.moving for shape in scene.objects):
+        return "no photon maps with media or motion blur"
+    if not any(materials.kind_has(shape.material.kind, materials.DELTA)
+               for shape in scene.objects):
+        return "no smooth glass or mirror for caustics"
+    return None
+
+
+def serve(scene):
+    """Do bdpt's caustic photon maps serve `scene` (skipped)?"""
+    return skipped(scene) is None
+
+
+# bdpt's needs (needs.py) for its strategies with photon maps (Sampling.photons).
+
+def aimed_lights(strategy, arrays):
+    """Photons are aimed at the lights list's objects that do not emit."""
+    return emitters_left_out(arrays) if strategy.photons else arrays
+
+
+def features(strategy, scene, arrays):
+    return {"caustics": settings(arrays)} if strategy.photons and serve(scene) else {}
+
+
+def runs_as(strategy, scene):
+    """bdpt+photons is bdpt+sobol bit for bit where its maps have nothing to do."""
+    why = skipped(scene) if strategy.photons else None
+    return None if why is None else ("bdpt+sobol", why)
+
+
+def extra_bytes(strategy):
+    return map_bytes(BLOCK_SPP) if strategy.photons else 0
+
+
+def kernels(frame):
+    return [kernel_call(frame)] if frame.features.caustics is not None else []
+
+
+def block(frame, features, s0, s1, threads):
+    """The maps of one block's samples (renderer.render_samples)."""
+    if features.caustics is None or s1 <= s0:
+        return features
+    return features._replace(caustics=build(features.caustics, frame.scene, frame.params,
+                                            features.textures, s0, s1, threads))
 
 
 def map_bytes(maps):
