@@ -16,72 +16,12 @@ import numba
 
 from . import checks
 from .errors import FieldError, SceneError
+# The path tracer's strategies, each declared by its estimator, and the default.
+from .path.integrators import (DEFAULT_SAMPLING, SAMPLINGS, Sampling,  # noqa: F401
+                               default_sampling, needs_of)
 
 
 
-@dataclass(frozen=True)
-class Sampling:
-    """A sampling strategy of the path tracer (path/integrators/path.py).
-
-    light_weight: the share of the lights list in the mixture pdf that draws the
-    next direction at a diffuse hit (path/pdf.py): 0 cosine, 0.5 the books' mixture.
-    next_event: also sample a point on one emitter at each diffuse hit and trace a
-    shadow ray to it, the two strategies weighted by the power heuristic (MIS);
-    the mixture then draws towards the lights list's objects that do not emit
-    (attractors such as a glass ball), and paths end by Russian roulette from
-    depth `roulette_depth` on (max_depth still caps them).
-    sobol: the position in the pixel and the first diffuse bounce's direction
-    come from Owen-scrambled Sobol points (kernel/sobol.py) instead of the
-    independent stream (which still gives every other number).
-    facing: at a point behind every light of the lights list (one-sided rect
-    lights seen from their back: no light reaches it from them), the mixture
-    draws from the cosine alone instead of sending samples to them (the books
-    do); pack.dark_sides.  Only with sobol (the kernel tests it there).
-    estimator: which kernel renders (path/integrators/): the path tracer, or
-    light tracing (paths from the emitters connected to the camera; the other
-    fields do not apply to it).
-    """
-    light_weight: float
-    next_event: bool = False
-    roulette_depth: int = 0      # 0: no Russian roulette
-    sobol: bool = False
-    facing: bool = False
-    estimator: str = "path"      # path/integrators/: "path", or "light" (light tracing)
-    photons: bool = False        # bdpt: caustic photon maps (integrators/photons.py)
-
-
-SAMPLINGS = {
-    "cosine": Sampling(0.0),             # The Next Week
-    "mixture": Sampling(0.5),            # The Rest of Your Life
-    "light": Sampling(1.0),              # the lights list only
-    "nee": Sampling(0.5, next_event=True, roulette_depth=1),
-    # Ours beyond the books: Sobol points; no light samples where no light shines.
-    "mixture+sobol": Sampling(0.5, sobol=True, facing=True),
-    "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True, facing=True),
-    # Light tracing (pbrt's lightpath): caustics on smooth surfaces, no glass seen.
-    "lightpath": Sampling(0.0, estimator="light"),
-    # Bidirectional path tracing (pbrt's bdpt): every way of joining a camera
-    # subpath to a light subpath, weighted by MIS.
-    "bdpt": Sampling(0.0, estimator="bdpt"),
-    "bdpt+sobol": Sampling(0.0, sobol=True, estimator="bdpt"),
-    # bdpt+sobol, and caustic photon maps for the diffuse surfaces seen through
-    # glass or in mirrors (consistent: their bias shrinks as samples add up).
-    "bdpt+photons": Sampling(0.0, sobol=True, estimator="bdpt", photons=True),
-}
-# The default: the strategy with the lowest error at equal time, by what the
-# scene holds (benchmarks/strategies.py and accuracy.py; docs/accuracy.md).
-# Where emitters light metal or glass, smooth or rough (delta and glossy
-# materials: path/materials/flags.py), that is a noticeable part of the scene
-# (SPECULAR_SHARE of its surface area or more), bidirectional path tracing finds
-# the caustics and the light through glass or off mirrors that camera paths find
-# only by chance, and its caustic photon maps the caustics seen through smooth
-# glass where the lights list names what to aim them at; elsewhere it pays for
-# connections that find little new (benchmarks/strategies.py and accuracy.py;
-# the figures: benchmarks/results/measurements.md).  "mixture" is the books'.
-DEFAULT_SAMPLING = "mixture+sobol"
-SPECULAR_DEFAULT = "bdpt+sobol"
-PHOTONS_DEFAULT = "bdpt+photons"
-SPECULAR_SHARE = 0.02
 # Options of the path tracer only: the classic ray tracer casts one ray per pixel.
 PATH_ONLY = ("spp", "time", "sampling", "clamp", "bvh", "aov", "denoise", "preview")
 # Feature images a path-traced render can add (film.py: for denoisers).
@@ -167,7 +107,7 @@ class RenderOptions:
         if not isinstance(self.denoise, bool):
             raise SceneError(f"render: denoise: must be True or False, got {self.denoise!r}")
         if self.denoise:
-            if self.strategy.estimator == "light":
+            if not needs_of(self.strategy).feature_images:
                 raise SceneError(f"render: denoise: {self.sampling} traces no paths from the "
                                  "camera, so it has no feature images to denoise with; use "
                                  "a path-tracing sampling")
@@ -195,7 +135,7 @@ class RenderOptions:
                 hint = f" (did you mean '{close[0]}'?)" if close else ""
                 raise SceneError(f"render: aov: unknown feature '{a}'{hint}; expected "
                                  f"{', '.join(LAYERS)}")
-        if set(aov) & set(AOVS) and self.strategy.estimator == "light":
+        if set(aov) & set(AOVS) and not needs_of(self.strategy).feature_images:
             raise SceneError(f"render: aov: {self.sampling} traces no paths from the camera, "
                              "so it has no feature images; use a path-tracing sampling")
         object.__setattr__(self, "aov", tuple(dict.fromkeys(aov)) or None)
@@ -270,25 +210,6 @@ class RenderOptions:
     @property
     def clamp_value(self):
         return math.inf if self.clamp is None else float(self.clamp)
-
-
-def default_sampling(scene):
-    """The sampling a path-traced scene gets when none is asked for:
-    bidirectional (SPECULAR_DEFAULT, or PHOTONS_DEFAULT where its caustic maps
-    serve: path/integrators/photons.serve) when it has an emitter and metal or
-    glass, smooth or rough, make up at least SPECULAR_SHARE of its surfaces'
-    area, else DEFAULT_SAMPLING."""
-    from .path.integrators import photons
-    from .path.materials import DELTA, EMITS, GLOSSY, kind_has
-    surfaces = [shape for shape in scene.objects if not shape.medium]
-    if not any(kind_has(shape.material.kind, EMITS) for shape in surfaces):
-        return DEFAULT_SAMPLING
-    total = sum(shape.area for shape in surfaces)
-    specular = sum(shape.area for shape in surfaces
-                   if kind_has(shape.material.kind, DELTA | GLOSSY))
-    if specular < SPECULAR_SHARE * total:
-        return DEFAULT_SAMPLING
-    return PHOTONS_DEFAULT if photons.serve(scene) else SPECULAR_DEFAULT
 
 
 @contextmanager

@@ -152,19 +152,21 @@ def test_no_compiled_function_takes_more_than_twelve_arguments():
     assert not long, long
 
 
-def test_the_renderer_names_no_estimator():
-    # Each estimator declares what it needs of the driver (integrators/needs.py):
-    # the renderer asks it, and imports, calls or names none of them ("path" is
-    # also the integrator's name, beside "classic").
+@pytest.mark.parametrize("source", ["path/renderer.py", "options.py"])
+def test_the_driver_and_the_options_name_no_estimator(source):
+    # Each estimator declares what it needs of the driver (integrators/needs.py)
+    # and its named strategies: the renderer and the options ask, and import,
+    # call or name none of them ("path" is also the integrator's name, beside
+    # "classic").
     from rtweekend.options import SAMPLINGS
     from rtweekend.path.integrators import ESTIMATORS
-    tree = ast.parse((PACKAGE / "path" / "renderer.py").read_text())
+    tree = ast.parse((PACKAGE / source).read_text())
     modules = set(ESTIMATORS) | {"photons", "mis", "subpaths", "vertices"}
     named = set()
     for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom):
             named |= {a.name for a in node.names} & modules
-            named |= set((node.module or "").split(".")) & modules
+            named |= {(node.module or "").split(".")[-1]} & modules
         elif isinstance(node, ast.Name | ast.Attribute):
             named |= {node.id if isinstance(node, ast.Name) else node.attr} \
                 & {"bdpt", "photons", "caustics"}
@@ -173,3 +175,4 @@ def test_the_renderer_names_no_estimator():
     assert named == set(), named
     for name, module in ESTIMATORS.items():
         assert isinstance(module.NEEDS.splats, bool), name
+        assert all(s.estimator == name for s in module.STRATEGIES.values()), name

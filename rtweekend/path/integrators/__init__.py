@@ -16,6 +16,49 @@ the estimator (path/renderer.py) and carries the feature record
 renderer.render_samples, because Numba prunes `is None` tests only on
 arguments.
 """
-from . import bdpt, light, path
+from ..materials import DELTA, EMITS, GLOSSY, kind_has
+from . import bdpt, light, path, photons
+from .sampling import Sampling  # noqa: F401  (options.py's)
 
 ESTIMATORS = {"path": path, "light": light, "bdpt": bdpt}
+# Every named strategy, as each estimator declares them (`--sampling`).
+SAMPLINGS = {**path.STRATEGIES, **light.STRATEGIES, **bdpt.STRATEGIES}
+
+
+def needs_of(strategy):
+    """What the estimator of a Sampling needs of the driver (needs.py)."""
+    return ESTIMATORS[strategy.estimator].NEEDS
+
+
+# The default: the strategy with the lowest error at equal time, by what the
+# scene holds (benchmarks/strategies.py and accuracy.py; docs/accuracy.md).
+# Where emitters light metal or glass, smooth or rough (delta and glossy
+# materials: path/materials/flags.py), that is a noticeable part of the scene
+# (SPECULAR_SHARE of its surface area or more), bidirectional path tracing finds
+# the caustics and the light through glass or off mirrors that camera paths find
+# only by chance, and its caustic photon maps the caustics seen through smooth
+# glass where the lights list names what to aim them at; elsewhere it pays for
+# connections that find little new (benchmarks/strategies.py and accuracy.py;
+# the figures: benchmarks/results/measurements.md).  "mixture" is the books'.
+DEFAULT_SAMPLING = "mixture+sobol"
+SPECULAR_DEFAULT = "bdpt+sobol"
+PHOTONS_DEFAULT = "bdpt+photons"
+SPECULAR_SHARE = 0.02
+
+
+def default_sampling(scene):
+    """The sampling a path-traced scene gets when none is asked for:
+    bidirectional (SPECULAR_DEFAULT, or PHOTONS_DEFAULT where its caustic maps
+    serve: path/integrators/photons.serve) when it has an emitter and metal or
+    glass, smooth or rough, make up at least SPECULAR_SHARE of its surfaces'
+    area, else DEFAULT_SAMPLING."""
+    surfaces = [shape for shape in scene.objects if not shape.medium]
+    if not any(kind_has(shape.material.kind, EMITS) for shape in surfaces):
+        return DEFAULT_SAMPLING
+    total = sum(shape.area for shape in surfaces)
+    specular = sum(shape.area for shape in surfaces
+                   if kind_has(shape.material.kind, DELTA | GLOSSY))
+    if specular < SPECULAR_SHARE * total:
+        return DEFAULT_SAMPLING
+    return PHOTONS_DEFAULT if photons.serve(scene) else SPECULAR_DEFAULT
+

@@ -46,6 +46,7 @@ from ..lights import background
 from ..materials import EMITS
 from . import mis, photons
 from .needs import Needs
+from .sampling import Sampling
 from .subpaths import camera_subpath, light_subpath
 from .vertices import (BACK, BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI, NS, OBJ, P,
                        SURFACE, TYPE, WO, area_factor, back_density, col, connectible,
@@ -55,6 +56,15 @@ from .vertices import (BACK, BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI,
 NEEDS = Needs(splats=True, lights=photons.aimed_lights, features=photons.features,
               runs_as=photons.runs_as, extra_bytes=photons.extra_bytes,
               kernels=photons.kernels, block=photons.block)
+STRATEGIES = {
+    # Bidirectional path tracing (pbrt's bdpt): every way of joining a camera
+    # subpath to a light subpath, weighted by MIS.
+    "bdpt": Sampling(0.0, estimator="bdpt"),
+    "bdpt+sobol": Sampling(0.0, sobol=True, estimator="bdpt"),
+    # bdpt+sobol, and caustic photon maps for the diffuse surfaces seen through
+    # glass or in mirrors (consistent: their bias shrinks as samples add up).
+    "bdpt+photons": Sampling(0.0, sobol=True, estimator="bdpt", photons=True),
+}
 ZERO = (0.0, 0.0, 0.0)
 INV_PI = 1.0 / math.pi
 # A connection's far end may be found by the search a rounding short of it.

@@ -44,6 +44,7 @@ from ..materials import isotropic, lambertian
 from ..roulette import roulette
 from ..surface import color_of, surface_at
 from .needs import Needs
+from .sampling import Sampling
 
 
 def _check(sampling, arrays):
@@ -58,7 +59,10 @@ def _check(sampling, arrays):
                          "another sampling, or a black background")
 
 
-NEEDS = Needs(splats=True, check=_check)     # its film has the splat arrays (film.py)
+# Its film has the splat arrays (film.py); no path from the camera to see features.
+NEEDS = Needs(splats=True, feature_images=False, check=_check)
+# Light tracing (pbrt's lightpath): caustics on smooth surfaces, no glass seen.
+STRATEGIES = {"lightpath": Sampling(0.0, estimator="light")}
 
 ZERO = (0.0, 0.0, 0.0)
 ROULETTE_DEPTH = 2      # segments before Russian roulette may end a path

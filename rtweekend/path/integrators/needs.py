@@ -6,6 +6,8 @@ is what an estimator needing nothing more would say.
 
     splats        its film has the splat arrays (film.py): it carries light to
                   pixels other than its sample's
+    feature_images  its paths start at the camera, so it can give what they first
+                  see (film.py: the albedo, normal and emission images)
     check(sampling, arrays)        SceneError (naming the option) if it cannot
                   render the packed scene
     lights(strategy, arrays)       the lights list its mixture draws towards
@@ -55,6 +57,7 @@ def _same_features(frame, features, s0, s1, threads):
 
 class Needs(NamedTuple):
     splats: bool
+    feature_images: bool = True
     check: Callable = _nothing_to_check
     lights: Callable = _lights_as_listed
     features: Callable = _no_features

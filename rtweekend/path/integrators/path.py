@@ -40,6 +40,7 @@ from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
 from .. import materials, media as volumes, nee, pdf, shapes
 from .needs import Needs, emitters_left_out
+from .sampling import Sampling
 from ..bvh import closest_hit
 from ..camera import sample_ray
 from ..film import SEGMENTS
@@ -66,6 +67,15 @@ def _next_events(strategy, arrays):
 
 
 NEEDS = Needs(splats=False, lights=_lights, features=_features)   # samples only (film.py)
+STRATEGIES = {
+    "cosine": Sampling(0.0),             # The Next Week
+    "mixture": Sampling(0.5),            # The Rest of Your Life
+    "light": Sampling(1.0),              # the lights list only
+    "nee": Sampling(0.5, next_event=True, roulette_depth=1),
+    # Ours beyond the books: Sobol points; no light samples where no light shines.
+    "mixture+sobol": Sampling(0.5, sobol=True, facing=True),
+    "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True, facing=True),
+}
 
 ZERO = (0.0, 0.0, 0.0)
 ONE = (1.0, 1.0, 1.0)
