@@ -53,7 +53,7 @@ def test_every_primitive_kind_has_its_module_and_every_operation():
     assert set(shapes.MODULES) == set(layout.PRIMITIVE_KINDS)
     for module in shapes.MODULES.values():
         for op in ("distance", "outward_normal", "enters", "sample_toward", "pdf_toward",
-                   "uv", "bounds", "pack"):
+                   "uv", "bounds", "pack", "light_parts"):
             assert callable(getattr(module, op, None)), f"{module.__name__} lacks {op}"
         assert module.FLOATS <= layout.OBJ_FLOATS
     for op in ("distance", "outward_normal", "enters", "sample_toward", "pdf_toward", "uv"):

@@ -31,27 +31,11 @@ from ..kernel.jit import jit_step
 from . import shapes
 from .materials import EMITS, objects_with
 from .surface import color_of
-from .layout import (BG_SKY, BOX, LIGHT_AREA, LIGHT_CDF, LIGHT_OBJ, LIGHT_PART,
-                     LIGHT_POWER, LIGHT_PROB, MAT_COLOR, OBJ_KIND, OBJ_MAT, RECT, SPHERE,
-                     TRIANGLE)
-from .shapes import axis_rect, box, rect, sphere, triangle
+from .layout import (BG_SKY, LIGHT_AREA, LIGHT_CDF, LIGHT_OBJ, LIGHT_PART,
+                     LIGHT_POWER, LIGHT_PROB, MAT_COLOR, OBJ_KIND, OBJ_MAT)
 
 # Rec. 709 luminance of linear RGB: how bright a colour is to the eye.
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
-
-
-def _areas(kind, row):
-    """[(part, area)] of one primitive's rows."""
-    if kind == BOX:
-        areas = box.face_areas(row)
-        return [(face, areas[face // 2]) for face in range(6)]
-    if kind == SPHERE:
-        return [(-1, 4.0 * math.pi * row[sphere.RADIUS2])]
-    if kind == RECT:
-        return [(-1, row[rect.AREA])]
-    if kind == TRIANGLE:
-        return [(-1, row[triangle.AREA])]
-    return [(-1, row[axis_rect.AREA])]          # the three axis-aligned kinds
 
 
 def pack_lights(obj_i, obj_f, mat_i, mat_f):
@@ -60,7 +44,7 @@ def pack_lights(obj_i, obj_f, mat_i, mat_f):
     for k in np.flatnonzero(objects_with(obj_i, mat_i, EMITS)):
         m = obj_i[k, OBJ_MAT]
         luminance = float(LUMINANCE @ mat_f[m, MAT_COLOR:MAT_COLOR + 3])
-        for part, area in _areas(obj_i[k, OBJ_KIND], obj_f[k]):
+        for part, area in shapes.light_parts(obj_i[k, OBJ_KIND], obj_f[k]):
             rows.append((k, part))
             values.append((area, math.pi * luminance * area))
     rows = np.array(rows, dtype=np.int64).reshape(-1, 2)

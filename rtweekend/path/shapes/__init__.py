@@ -16,6 +16,7 @@ for the row k of obj_f it packed:
   interval(obj_f, k, o, d)             where a line is inside it (closed kinds:
                                        a constant medium's boundary)
   bounds(row), pack(..., row)          NumPy, for the BVH and pack.py
+  light_parts(row)                     NumPy: [(part, area)], its rows as a light
 
 Spheres can move (motion blur): their functions also take the ray's time,
 which is None in a kernel for a scene where nothing moves (sphere.py).  A
@@ -52,6 +53,12 @@ def bounds(kind, row):
     if kind in AXES:
         return axis_rect.bounds(AXES[kind], row)
     return MODULES[kind].bounds(row)
+
+
+def light_parts(kind, row):
+    """[(part, area)] of one primitive as a light: the rows of lights.pack_lights
+    (part -1 for a kind sampled whole, a box's faces 0..5)."""
+    return MODULES[kind].light_parts(row)
 
 
 @jit_step

@@ -52,6 +52,11 @@ def bounds(axes, row):
     return np.array(lo), np.array(hi)
 
 
+def light_parts(row):
+    """[(part, area)] of the rect as a light (lights.pack_lights): one part."""
+    return [(-1, row[AREA])]
+
+
 @jit_step
 def plane_hit(obj_f, k, o, d, t_max, a, b, n):
     """Distance along d to the rect, in (0, t_max), else inf.  (d[n] = 0: the

@@ -75,6 +75,13 @@ def bounds(row):
     return corners.min(axis=0), corners.max(axis=0)
 
 
+def light_parts(row):
+    """[(face, area)] of the box as a light (lights.pack_lights): each of its six
+    faces a part (sample_area draws on one face)."""
+    areas = face_areas(row)
+    return [(face, areas[face // 2]) for face in range(6)]
+
+
 @jit_step
 def _turned_back(obj_f, k, v):
     """v by the rotation's transpose: a world direction in the box's frame."""

@@ -70,6 +70,11 @@ def bounds(row):
     return corners.min(axis=0), corners.max(axis=0)
 
 
+def light_parts(row):
+    """[(part, area)] of the rect as a light (lights.pack_lights): one part."""
+    return [(-1, row[AREA])]
+
+
 @jit_step
 def plane_hit(obj_f, k, o, d, t_max):
     """Distance along d to the rectangle, in (0, t_max), else inf.

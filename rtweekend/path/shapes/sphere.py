@@ -51,6 +51,12 @@ def bounds(row):
     return np.minimum(c0, c1) - r, np.maximum(c0, c1) + r
 
 
+def light_parts(row):
+    """[(part, area)] of the sphere as a light (lights.pack_lights): one part
+    (NumPy; sample_area's density is 1 / this area)."""
+    return [(-1, 4.0 * math.pi * row[RADIUS2])]
+
+
 @jit_step
 def center(obj_f, k, time):
     """The centre at `time` (None: the sphere does not move)."""

@@ -82,6 +82,11 @@ def bounds(row):
     return corners.min(axis=0), corners.max(axis=0)
 
 
+def light_parts(row):
+    """[(part, area)] of the triangle as a light (lights.pack_lights): one part."""
+    return [(-1, row[AREA])]
+
+
 @jit_step
 def _vertex(obj_f, k, c):
     return (obj_f[k, c], obj_f[k, c + 1], obj_f[k, c + 2])
