@@ -42,7 +42,7 @@ def light_directions(arrays, k, p, count, seed):
     for the mesh)."""
     out = np.empty((count, 3))
     for i in range(count):
-        d, _ = pdf.toward_light(arrays, k, p, seed_state(i, 0, seed), None)
+        d, _ = pdf.toward_light(arrays, k, p, np.int64(NO_HIT), seed_state(i, 0, seed), None)
         out[i, 0], out[i, 1], out[i, 2] = d
     return out
 

@@ -34,8 +34,8 @@ def _generate(a, p, n, w, count, seed):
     out = np.empty((count, 3))
     bsdf = Bsdf(np.int64(LAMBERTIAN), (0.5, 0.5, 0.5), (0.0, 0.0), n, True, n, None)
     for i in range(count):
-        d, _, _ = pdf.mixture_sample(a, bsdf, n, p, w, True, sampler.start(i, 0, seed, 0),
-                                     None)
+        d, _, _ = pdf.mixture_sample(a, bsdf, n, p, np.int64(NO_HIT), w, True,
+                                     sampler.start(i, 0, seed, 0), None)
         out[i, 0], out[i, 1], out[i, 2] = d
     return out
 

@@ -84,7 +84,7 @@ def phase_scatter(scene, p, light_weight, use_lights, time, smp):
         return d, 1.0, sampler.resume(smp, state)
     u, smp = sampler.uniform(smp)
     if u < light_weight:
-        d, smp = pdf.lights_generate(scene, p, smp, time)
+        d, smp = pdf.lights_generate(scene, p, NO_HIT, smp, time)
     else:
         d, state = isotropic.sample(smp.state)
         smp = sampler.resume(smp, state)

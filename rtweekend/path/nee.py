@@ -79,7 +79,7 @@ def shadow_ray(scene, p, n_out, k, bsdf, wo, light_weight, beta, state, time, te
     """
     u, state = rng.uniform(state)
     e = lights.pick_emitter(scene, u)
-    w, state = shapes.sample_toward(scene, e, p, state, time)
+    w, state = shapes.sample_toward(scene, e, p, k, state, time)
     inside = shapes.enters(scene, k, n_out, w)
     gives = materials.pdf(bsdf, wo, w) > 0.0
     p_e = emitter_pdf(scene, e, p, w, k, inside, time) if gives else 0.0

@@ -15,14 +15,14 @@ from . import materials, mesh_light, shapes
 
 
 @jit_step
-def toward_light(scene, k, p, state, time):
-    """A unit direction from p towards the lights list's entry k (an object,
-    or the first triangle of a mesh: then the whole mesh), drawn by its own
-    sampling."""
+def toward_light(scene, k, p, from_obj, state, time):
+    """A unit direction from p (a point of object from_obj, or NO_HIT) towards
+    the lights list's entry k (an object, or the first triangle of a mesh: then
+    the whole mesh), drawn by its own sampling."""
     g = mesh_light.group_of(scene.tris, k)
     if g >= 0:
         return mesh_light.sample_toward(scene.tris, scene.obj_f, g, p, state)
-    return shapes.sample_toward(scene, k, p, state, time)
+    return shapes.sample_toward(scene, k, p, from_obj, state, time)
 
 
 @jit_step
@@ -65,13 +65,14 @@ def mixture_weight(scene, bsdf, p, light_weight):
 # -- all lights, one chosen uniformly (the books' hittable_list pdf) --------------
 
 @jit_step
-def lights_generate(scene, p, smp, time):
-    """A unit direction from p towards one light chosen uniformly (numbers of the
-    stream: one for the light, then the light's own)."""
+def lights_generate(scene, p, from_obj, smp, time):
+    """A unit direction from p (a point of object from_obj, or NO_HIT) towards
+    one light chosen uniformly (numbers of the stream: one for the light, then
+    the light's own)."""
     lights = scene.lights
     u, smp = sampler.uniform(smp)
     k = lights[min(int(u * lights.shape[0]), lights.shape[0] - 1)]
-    w, state = toward_light(scene, k, p, smp.state, time)
+    w, state = toward_light(scene, k, p, from_obj, smp.state, time)
     return w, sampler.resume(smp, state)
 
 
@@ -92,8 +93,9 @@ def lights_value(scene, p, d, from_obj, from_inside, time):
 # -- the mixture at a smooth hit (The Rest of Your Life, chapter "Mixing") ---------
 
 @jit_step
-def mixture_sample(scene, bsdf, wo, p, light_weight, use_lights, smp, time):
-    """(direction, weight, smp): a direction from (1 - w) material + w lights
+def mixture_sample(scene, bsdf, wo, p, from_obj, light_weight, use_lights, smp, time):
+    """(direction, weight, smp): a direction from p, a point of object from_obj,
+    drawn from (1 - w) material + w lights
     (w = light_weight, 0 without use_lights), and the material's weight when
     its component drew it.
 
@@ -123,7 +125,7 @@ def mixture_sample(scene, bsdf, wo, p, light_weight, use_lights, smp, time):
     if light:
         lights = scene.lights
         k = lights[min(int(pick * lights.shape[0]), lights.shape[0] - 1)]
-        w, state = toward_light(scene, k, p, smp.state, time)
+        w, state = toward_light(scene, k, p, from_obj, smp.state, time)
         return w, materials.NO_COLOR, sampler.resume(smp, state)
     wi, weight, _, smp = materials.sample_at(bsdf, wo, v1, v2, smp)
     return wi, weight, smp

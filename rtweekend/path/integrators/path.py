@@ -168,8 +168,8 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
             scene, hit.p, hit.n_out, hit.obj, bsdf, wo, lw, beta, smp.state, time, textures)
         shadow = Shadow(target, hit.p, sd, s_inside, st, light)
         smp = sampler.resume(smp, state)
-    d, weight, smp = pdf.mixture_sample(scene, bsdf, wo, hit.p, lw if use_lights else 0.0,
-                                        use_lights, smp, time)
+    d, weight, smp = pdf.mixture_sample(scene, bsdf, wo, hit.p, hit.obj,
+                                        lw if use_lights else 0.0, use_lights, smp, time)
     from_inside = shapes.enters(scene, hit.obj, hit.n_out, d)
     if not (use_lights or events is not None):
         # The material's own draw; one behind a smooth mesh's triangle is absorbed.

@@ -243,7 +243,7 @@ def trace_photon(scene, params, out_f, out_i, n, textures, smp):
     attractors = scene.lights
     u, smp = sampler.uniform(smp)
     target = attractors[min(int(u * attractors.shape[0]), attractors.shape[0] - 1)]
-    d, state = pdf.toward_light(scene, target, p, smp.state, None)
+    d, state = pdf.toward_light(scene, target, p, k, smp.state, None)
     smp = sampler.resume(smp, state)
     c = dot(d, nl)
     if not c > 0.0:

@@ -8,7 +8,8 @@ for the row k of obj_f it packed:
   shading_normal(...)                  triangles only (a smooth mesh's normal)
   enters(obj_f, k, n, d)               does a ray leaving it along d (its outward
                                        normal there: n) go inside it?
-  sample_toward(obj_f, k, p, state)    a direction from p towards it (as a light)
+  sample_toward(obj_f, k, p, state)    a direction from p towards it (as a light;
+                                       a sphere is told whether p is on it)
   pdf_toward(obj_f, k, p, d, from_self, from_inside)   that direction's density
   sample_area(obj_f, k, [part,] u1, u2)  a point uniform over its surface (a box's
                                        faces one at a time), its normal, 1 / area
@@ -151,8 +152,9 @@ def enters(scene, k, n, d):
 
 
 @jit_step
-def sample_toward(scene, k, p, state, time):
-    """A unit direction from p towards object k, drawn by its own light sampling."""
+def sample_toward(scene, k, p, from_obj, state, time):
+    """A unit direction from p (a point of object from_obj, or NO_HIT) towards
+    object k, drawn by its own light sampling."""
     kind = scene.obj_i[k, OBJ_KIND]
     f = scene.obj_f
     if kind == XZ_RECT:
@@ -162,7 +164,7 @@ def sample_toward(scene, k, p, state, time):
     if kind == XY_RECT:
         return axis_rect.sample_toward(f, k, p, state, *XY)
     if kind == SPHERE:
-        return sphere.sample_toward(f, k, p, state, time)
+        return sphere.sample_toward(f, k, p, k == from_obj, state, time)
     if kind == BOX:
         return box.sample_toward(f, k, p, state)
     if kind == RECT:

@@ -26,9 +26,6 @@ from ...kernel.vec3 import dot, local, onb, scale
 INF = math.inf
 INV_4PI = 1.0 / (4.0 * math.pi)
 INV_2PI = 1.0 / (2.0 * math.pi)
-# A point whose squared distance from the centre is within this share of r^2
-# is on the sphere (a hit on it; rounding puts it either side).
-ON_SURFACE = 1e-9
 CENTER = 0
 RADIUS = 3
 RADIUS2 = 4
@@ -144,13 +141,15 @@ def one_minus_cos_theta_max(r2, dist2):
 
 
 @jit_step
-def sample_toward(obj_f, k, p, state, time):
-    """A unit direction from p, uniform in the cone the sphere subtends."""
+def sample_toward(obj_f, k, p, from_self, state, time):
+    """A unit direction from p, uniform in the cone the sphere subtends; from a
+    point of its own surface (from_self: rounding puts p either side of it),
+    the inward hemisphere, as pdf_toward says."""
     c = center(obj_f, k, time)
     w = (c[0] - p[0], c[1] - p[1], c[2] - p[2])
     dist2 = dot(w, w)
     r2 = obj_f[k, RADIUS2]
-    on_it = abs(dist2 - r2) <= ON_SURFACE * r2
+    on_it = from_self
     if dist2 <= r2 and not on_it:
         # Inside the sphere every direction hits it: uniform sphere.
         return rng.unit_vector(state)
