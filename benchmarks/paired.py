@@ -142,6 +142,10 @@ def trees(paths, seconds, scene, sampling):
     """samples/s of each tree's package, and its ratio to the first."""
     folder = Path(tempfile.mkdtemp(prefix="rtweekend_trees_"))
     sys.path.insert(0, str(folder))
+    # Run from a source checkout (not installed), a copied package finds the
+    # bundled scenes beside it, as the checkout's does (scene/loader.py).
+    if (Path(paths[0]) / "scenes").is_dir():
+        shutil.copytree(Path(paths[0]) / "scenes", folder / "scenes")
     passes = []
     for i, tree in enumerate(paths):
         name = f"rtweekend_tree{i}"
