@@ -31,7 +31,7 @@ from . import film as films
 from . import seen_light
 from .camera import pack_camera
 from .film import BLOCK_SPP, DROPPED, SEGMENTS
-from .integrators import ESTIMATORS
+from .integrators import ESTIMATORS, needs_of
 from .layout import Features, PathParams, SceneArrays
 from . import pack, wide_bvh
 from .pack import dark_sides, pack_features, pack_scene, scene_bytes
@@ -67,7 +67,7 @@ def freeze(scene, options, stand_in=False):
     scene = options.sized(scene)          # one side alone keeps the aspect ratio
     arrays = pack_scene(scene, bvh=options.bvh, stand_in=stand_in)
     strategy = options.strategy
-    needs = ESTIMATORS[strategy.estimator].NEEDS
+    needs = needs_of(strategy)
     arrays = needs.lights(strategy, arrays)
     if strategy.facing:
         arrays = arrays._replace(dark_sides=dark_sides(arrays))
@@ -162,7 +162,7 @@ def _check_memory(scene, options):
     scene.check()
     camera = scene.resolved_camera()
     width, height = options.image_size(camera)
-    needs = ESTIMATORS[options.strategy.estimator].NEEDS
+    needs = needs_of(options.strategy)
     scene_part = scene_bytes(scene)
     memory.check(films.render_bytes(height, width, needs.splats, options.features,
                                     bool(options.denoise))
@@ -205,8 +205,8 @@ class Renderer:
         self.name = scene.name     # what a preview calls the image
         # What runs, said by the summary (another strategy's bits, and why, or
         # the one asked for).
-        self.sampling, self.sampling_note = ESTIMATORS[options.strategy.estimator].NEEDS \
-            .runs_as(options.strategy, scene) or (options.sampling, None)
+        self.sampling, self.sampling_note = needs_of(options.strategy).runs_as(
+            options.strategy, scene) or (options.sampling, None)
         self.film = films.new_film(self.height, self.width,
                                    _splats(options.strategy.estimator), options.features)
         self.spp = 0               # samples per pixel so far, in every pixel
