@@ -6,7 +6,7 @@ import math
 import numpy as np
 from numba import njit
 
-from rtweekend.kernel.rng import seed_state, unit_vector
+from rtweekend.kernel.rng import seed_state, uniform, unit_vector
 from rtweekend.path import pdf
 from rtweekend.path.bvh import closest_hit
 from rtweekend.path.layout import NO_HIT
@@ -42,7 +42,9 @@ def light_directions(arrays, k, p, count, seed):
     for the mesh)."""
     out = np.empty((count, 3))
     for i in range(count):
-        d, _ = pdf.toward_light(arrays, k, p, np.int64(NO_HIT), seed_state(i, 0, seed), None)
+        u1, state = uniform(seed_state(i, 0, seed))
+        u2, _ = uniform(state)
+        d = pdf.toward_light(arrays, k, p, np.int64(NO_HIT), u1, u2, None)
         out[i, 0], out[i, 1], out[i, 2] = d
     return out
 

@@ -193,7 +193,9 @@ def _from_its_surface(a, k, count, seed):
     for i in range(count):
         n, state = rng.unit_vector(state)
         p = (c[0] + r * n[0], c[1] + r * n[1], c[2] + r * n[2])
-        d, state = shapes.sample_toward(a, k, p, k, state, None)
+        u1, state = rng.uniform(state)
+        u2, state = rng.uniform(state)
+        d = shapes.sample_toward(a, k, p, k, u1, u2, None)
         inside = shapes.enters(a, k, n, d)
         out[i, 0] = shapes.pdf_toward(a, k, p, d, k, inside, None)
         out[i, 1] = -dot(d, n)                          # cosine with the inward normal

@@ -33,8 +33,11 @@ def _weights(scene, k, points, n, light_weight, seed):
         p = (points[i, 0], points[i, 1], points[i, 2])
         hit = Surface(p, n, n, True, np.int64(k), np.int64(NO_PRIM), m, albedo, (0.0, 0.0))
         bsdf = materials.at(scene, hit)
-        e, w, inside, t, c, state = nee.shadow_ray(scene, p, n, k, bsdf, wo, light_weight,
-                                                   (1.0, 1.0, 1.0), state, None, None)
+        u, state = rng.uniform(state)
+        u1, state = rng.uniform(state)
+        u2, state = rng.uniform(state)
+        e, w, inside, t, c = nee.shadow_ray(scene, p, n, k, bsdf, wo, light_weight,
+                                            (1.0, 1.0, 1.0), u, u1, u2, None, None)
         if e == NO_HIT:
             continue
         cosine = n[0] * w[0] + n[1] * w[1] + n[2] * w[2]

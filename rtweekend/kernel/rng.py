@@ -48,13 +48,20 @@ def uniform(state):
 
 @jit_step
 def unit_vector(state):
-    """A direction uniform on the unit sphere (Archimedes: z uniform)."""
+    """A direction uniform on the unit sphere, for two numbers of the stream."""
     u1, state = uniform(state)
     u2, state = uniform(state)
+    return sphere_point(u1, u2), state
+
+
+@jit_step
+def sphere_point(u1, u2):
+    """The direction uniform on the unit sphere at the unit square's point
+    (u1, u2) (Archimedes: z = 1 - 2 u1 is uniform)."""
     z = 1.0 - 2.0 * u1
     r = math.sqrt(max(0.0, 1.0 - z * z))
     phi = TWO_PI * u2
-    return (r * math.cos(phi), r * math.sin(phi), z), state
+    return (r * math.cos(phi), r * math.sin(phi), z)
 
 
 @jit_step

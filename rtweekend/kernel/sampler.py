@@ -10,8 +10,9 @@ hands out the pairs of low-discrepancy points in order -- pair `dim` of
 sobol.sample_2d, then the counter moves on -- while the counter is below
 `pairs`; past it (and always when pairs = 0) it returns two numbers of the
 stream.  So an estimator asks for points in the order of its decisions, and
-the strategy says how many get Sobol points: the +sobol strategies give two
-pairs, which go to the position in the pixel and to the first diffuse bounce.
+the strategy says how many get Sobol points (Sampling.sobol_pairs: the +sobol
+strategies cover the position in the pixel and the first bounce's decisions,
+its light samples included).
 Draws where stratification gains nothing (a glass's choice, Russian roulette,
 the emitter picked for a shadow ray) take the stream with uniform().
 

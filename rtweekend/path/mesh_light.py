@@ -19,7 +19,6 @@ import math
 
 import numpy as np
 
-from ..kernel import rng
 from ..kernel.jit import jit_step, like
 from . import wide_bvh
 from .shapes import triangle
@@ -81,15 +80,19 @@ def pick(cdf, start, count, u):
 
 
 @jit_step
-def sample_toward(tris, obj_f, g, p, state):
-    """A unit direction from p to a point uniform over mesh g's area (one
-    number of the stream picks the triangle, two the point in it)."""
+def sample_toward(tris, obj_f, g, p, u1, u2):
+    """The unit direction from p to mesh g's point for the unit square's
+    (u1, u2), uniform over its area for a uniform point: u1 picks the triangle
+    by area and is stretched back to [0, 1) within its share, so that a
+    stratified point stays stratified over each triangle."""
     if tris is None:
-        return (NAN, NAN, NAN), state
+        return (NAN, NAN, NAN)
     first, count, start = tris.groups[g, 0], tris.groups[g, 1], tris.groups[g, 2]
-    u, state = rng.uniform(state)
-    k = first + pick(tris.group_cdf, start, count, u)
-    return triangle.sample_toward(tris, obj_f, k, p, state)
+    cdf = tris.group_cdf
+    i = pick(cdf, start, count, u1)
+    below = cdf[start + i - 1] if i > 0 else 0.0
+    v1 = min((u1 - below) / (cdf[start + i] - below), 1.0)
+    return triangle.sample_toward(tris, obj_f, first + i, p, v1, u2)
 
 
 @jit_step

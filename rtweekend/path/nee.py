@@ -25,7 +25,6 @@ shadow_ray and emitter_pdf are compiled apart and called, not inlined.  The
 material at p is asked, never its kind: its density of the shadow ray's
 direction (materials.pdf: 0 below a lambertian) and f |cos| (materials.eval).
 """
-from ..kernel import rng
 from ..kernel.jit import jit_step
 from ..kernel.vec3 import dot, madd
 from . import lights, materials, pdf, shapes
@@ -63,31 +62,29 @@ def continuation_pdf(scene, bsdf, wo, p, light_weight, d, from_obj, from_inside,
 
 
 @jit_step
-def shadow_ray(scene, p, n_out, k, bsdf, wo, light_weight, beta, state, time, textures):
+def shadow_ray(scene, p, n_out, k, bsdf, wo, light_weight, beta, u, u1, u2, time, textures):
     """One next-event sample at the point p of object k (outward normal n_out;
     its material: bsdf), reached by a path of throughput beta coming from wo:
-    (emitter, direction, from_inside, t, (r, g, b), state).
+    (emitter, direction, from_inside, t, (r, g, b)).
 
     The shadow ray leaves p along the direction and reaches the sampled emitter
     at distance t; if nothing else is met before t (the integrator traces it),
     it adds (r, g, b): beta x the emitter's radiance there (0 on its back:
     one-sided) x MIS weight x f |cos| / p_e.  emitter NO_HIT: nothing to trace
     (a direction the material gives nothing, a zero density, or the emitter's
-    back).  Numbers of the stream (state: the sampler's stream, passed alone
-    because this function is called, not inlined): one for the emitter, then
-    the emitter's own.
+    back).  u picks the emitter, (u1, u2) places the direction towards it (the
+    caller's sampler draws them: this function is called, not inlined).
     """
-    u, state = rng.uniform(state)
     e = lights.pick_emitter(scene, u)
-    w, state = shapes.sample_toward(scene, e, p, k, state, time)
+    w = shapes.sample_toward(scene, e, p, k, u1, u2, time)
     inside = shapes.enters(scene, k, n_out, w)
     gives = materials.pdf(bsdf, wo, w) > 0.0
     p_e = emitter_pdf(scene, e, p, w, k, inside, time) if gives else 0.0
     if p_e <= 0.0:
-        return NO_HIT, w, inside, INF, NONE, state
+        return NO_HIT, w, inside, INF, NONE
     t = shapes.distance(scene, e, p, w, INF, k, inside, time)
     if not t < INF:
-        return NO_HIT, w, inside, INF, NONE, state
+        return NO_HIT, w, inside, INF, NONE
     q = madd(p, w, t)
     front = dot(w, shapes.outward_normal(scene, e, q, time)) < 0.0
     m = scene.obj_i[e, OBJ_MAT]
@@ -96,10 +93,10 @@ def shadow_ray(scene, p, n_out, k, bsdf, wo, light_weight, beta, state, time, te
         color = texturing.color_at(scene, textures, m, e, q, color, time)
     emits, radiance = materials.emitted_by(scene, m, front, color)
     if not emits:
-        return NO_HIT, w, inside, INF, NONE, state
+        return NO_HIT, w, inside, INF, NONE
     p_c = continuation_pdf(scene, bsdf, wo, p, light_weight, w, k, inside, time)
     att, f = materials.eval(bsdf, wo, w, power_heuristic(p_e, p_c))
     c = f / p_e
     return e, w, inside, t, (beta[0] * att[0] * (radiance[0] * c),
                              beta[1] * att[1] * (radiance[1] * c),
-                             beta[2] * att[2] * (radiance[2] * c)), state
+                             beta[2] * att[2] * (radiance[2] * c))

@@ -15,14 +15,15 @@ from . import materials, mesh_light, shapes
 
 
 @jit_step
-def toward_light(scene, k, p, from_obj, state, time):
-    """A unit direction from p (a point of object from_obj, or NO_HIT) towards
-    the lights list's entry k (an object, or the first triangle of a mesh: then
-    the whole mesh), drawn by its own sampling."""
+def toward_light(scene, k, p, from_obj, u1, u2, time):
+    """The unit direction from p (a point of object from_obj, or NO_HIT)
+    towards the lights list's entry k (an object, or the first triangle of a
+    mesh: then the whole mesh) for the unit square's point (u1, u2), by its own
+    sampling."""
     g = mesh_light.group_of(scene.tris, k)
     if g >= 0:
-        return mesh_light.sample_toward(scene.tris, scene.obj_f, g, p, state)
-    return shapes.sample_toward(scene, k, p, from_obj, state, time)
+        return mesh_light.sample_toward(scene.tris, scene.obj_f, g, p, u1, u2)
+    return shapes.sample_toward(scene, k, p, from_obj, u1, u2, time)
 
 
 @jit_step
@@ -67,13 +68,13 @@ def mixture_weight(scene, bsdf, p, light_weight):
 @jit_step
 def lights_generate(scene, p, from_obj, smp, time):
     """A unit direction from p (a point of object from_obj, or NO_HIT) towards
-    one light chosen uniformly (numbers of the stream: one for the light, then
-    the light's own)."""
+    one light chosen uniformly: one number of the stream picks it, the
+    sampler's next 2-D point places the direction."""
     lights = scene.lights
     u, smp = sampler.uniform(smp)
     k = lights[min(int(u * lights.shape[0]), lights.shape[0] - 1)]
-    w, state = toward_light(scene, k, p, from_obj, smp.state, time)
-    return w, sampler.resume(smp, state)
+    u1, u2, smp = sampler.next_2d(smp)
+    return toward_light(scene, k, p, from_obj, u1, u2, time), smp
 
 
 @jit_step
@@ -101,17 +102,24 @@ def mixture_sample(scene, bsdf, wo, p, from_obj, light_weight, use_lights, smp, 
 
     With the lights list (use_lights), the books' way: one number of the stream
     picks the component, then the component draws its own (the light: one to
-    pick it, then the shape's; the material: a 2-D point).  When the sampler
-    has a low-discrepancy point left, or without lights, one 2-D point (u1, u2)
-    decides both: u1 < w picks a light, by u1 / w (its direction from the
-    stream); otherwise ((u1 - w) / (1 - w), u2) is the material's point, so
-    that stratified points stay stratified over its lobe."""
-    pick, v1, v2 = 0.0, 0.0, 0.0
+    pick it, then a 2-D point for its direction; the material: a 2-D point).
+    When the sampler has a low-discrepancy point left, or without lights, one
+    2-D point (u1, u2) decides everything: u1 < w picks a light, by
+    t = u1 / w among the n of the list, and (t n - the light's index, u2) is
+    the light's point; otherwise ((u1 - w) / (1 - w), u2) is the material's.
+    Each component's share of the unit square is stretched back to the whole,
+    so that a stratified point stays stratified over the lobe and over each
+    light's surface."""
+    lights = scene.lights
+    n = lights.shape[0]
+    j, v1, v2 = 0, 0.0, 0.0
     if sampler.low_discrepancy(smp) or not use_lights:
         u1, u2, smp = sampler.next_2d(smp)
         light = u1 < light_weight
         if light:
-            pick = u1 / light_weight
+            t = u1 / light_weight * n
+            j = min(int(t), n - 1)
+            v1, v2 = min(t - j, 1.0), u2
         else:
             v1, v2 = (u1 - light_weight) / (1.0 - light_weight), u2
     else:
@@ -119,14 +127,13 @@ def mixture_sample(scene, bsdf, wo, p, from_obj, light_weight, use_lights, smp, 
         light = u < light_weight
         if light:
             pick, smp = sampler.uniform(smp)
+            j = min(int(pick * n), n - 1)
+            v1, v2, smp = sampler.next_2d(smp)          # past the Sobol pairs: the stream
         else:
             v1, smp = sampler.uniform(smp)
             v2, smp = sampler.uniform(smp)
     if light:
-        lights = scene.lights
-        k = lights[min(int(pick * lights.shape[0]), lights.shape[0] - 1)]
-        w, state = toward_light(scene, k, p, from_obj, smp.state, time)
-        return w, materials.NO_COLOR, sampler.resume(smp, state)
+        return toward_light(scene, lights[j], p, from_obj, v1, v2, time), materials.NO_COLOR, smp
     wi, weight, _, smp = materials.sample_at(bsdf, wo, v1, v2, smp)
     return wi, weight, smp
 

@@ -55,10 +55,6 @@ class Frame(NamedTuple):
         return self.params.height
 
 
-# Sobol pairs per sample for the +sobol strategies: the position in the pixel
-# and the first smooth bounce (kernel/sampler.py); the rest from the stream.
-SOBOL_PAIRS = 2
-
 
 def freeze(scene, options, stand_in=False):
     """The Frame for rendering `scene` with validated RenderOptions.  stand_in:
@@ -76,7 +72,7 @@ def freeze(scene, options, stand_in=False):
     params = PathParams(cam=pack_camera(camera), width=camera.width, height=camera.height,
                         seed=options.seed, max_depth=max_depth,
                         light_weight=strategy.light_weight if len(arrays.lights) else 0.0,
-                        clamp=options.clamp_value, pairs=SOBOL_PAIRS if strategy.sobol else 0)
+                        clamp=options.clamp_value, pairs=strategy.sobol_pairs)
     features = Features(None, *pack_features(scene, arrays))._replace(
         **needs.features(strategy, scene, arrays))
     needs.check(options.sampling, arrays)

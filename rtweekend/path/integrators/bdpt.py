@@ -60,10 +60,11 @@ STRATEGIES = {
     # Bidirectional path tracing (pbrt's bdpt): every way of joining a camera
     # subpath to a light subpath, weighted by MIS.
     "bdpt": Sampling(0.0, estimator="bdpt"),
-    "bdpt+sobol": Sampling(0.0, sobol=True, estimator="bdpt"),
+    # +sobol: the position in the pixel and the camera subpath's first bounce.
+    "bdpt+sobol": Sampling(0.0, sobol_pairs=2, estimator="bdpt"),
     # bdpt+sobol, and caustic photon maps for the diffuse surfaces seen through
     # glass or in mirrors (consistent: their bias shrinks as samples add up).
-    "bdpt+photons": Sampling(0.0, sobol=True, estimator="bdpt", photons=True),
+    "bdpt+photons": Sampling(0.0, sobol_pairs=2, estimator="bdpt", photons=True),
 }
 ZERO = (0.0, 0.0, 0.0)
 INV_PI = 1.0 / math.pi

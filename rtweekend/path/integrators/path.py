@@ -73,8 +73,11 @@ STRATEGIES = {
     "light": Sampling(1.0),              # the lights list only
     "nee": Sampling(0.5, next_event=True, roulette_depth=1),
     # Ours beyond the books: Sobol points; no light samples where no light shines.
-    "mixture+sobol": Sampling(0.5, sobol=True, facing=True),
-    "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol=True, facing=True),
+    # The points: the position in the pixel, then at the first smooth bounce
+    # the shadow ray's point on its emitter (nee) and the mixture's point,
+    # which picks its component and places its direction (pdf.mixture_sample).
+    "mixture+sobol": Sampling(0.5, sobol_pairs=2, facing=True),
+    "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol_pairs=3, facing=True),
 }
 
 ZERO = (0.0, 0.0, 0.0)
@@ -164,10 +167,13 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
     lw = pdf.mixture_weight(scene, bsdf, hit.p, params.light_weight)
     shadow = no_shadow(hit.p, wo)
     if events is not None:
-        target, sd, s_inside, st, light, state = nee.shadow_ray(
-            scene, hit.p, hit.n_out, hit.obj, bsdf, wo, lw, beta, smp.state, time, textures)
+        # The emitter from the stream, the point on it from the sampler's
+        # next 2-D point (a Sobol pair at the first bounce of +sobol).
+        u, smp = sampler.uniform(smp)
+        u1, u2, smp = sampler.next_2d(smp)
+        target, sd, s_inside, st, light = nee.shadow_ray(
+            scene, hit.p, hit.n_out, hit.obj, bsdf, wo, lw, beta, u, u1, u2, time, textures)
         shadow = Shadow(target, hit.p, sd, s_inside, st, light)
-        smp = sampler.resume(smp, state)
     d, weight, smp = pdf.mixture_sample(scene, bsdf, wo, hit.p, hit.obj,
                                         lw if use_lights else 0.0, use_lights, smp, time)
     from_inside = shapes.enters(scene, hit.obj, hit.n_out, d)

@@ -240,11 +240,7 @@ def trace_maps(scene, params, s0, rows, out_f, out_i, textures):
 @jit_step
 def trace_photon(scene, params, out_f, out_i, n, textures, smp):
     k, p, nl, emit, origin, smp = lights.light_point(scene, textures, None, smp)
-    attractors = scene.lights
-    u, smp = sampler.uniform(smp)
-    target = attractors[min(int(u * attractors.shape[0]), attractors.shape[0] - 1)]
-    d, state = pdf.toward_light(scene, target, p, k, smp.state, None)
-    smp = sampler.resume(smp, state)
+    d, smp = pdf.lights_generate(scene, p, k, smp, None)      # towards the attractors
     c = dot(d, nl)
     if not c > 0.0:
         return                                   # behind the emitter: no light

@@ -18,9 +18,11 @@ class Sampling:
     the mixture then draws towards the lights list's objects that do not emit
     (attractors such as a glass ball), and paths end by Russian roulette from
     depth `roulette_depth` on (max_depth still caps them).
-    sobol: the position in the pixel and the first diffuse bounce's direction
-    come from Owen-scrambled Sobol points (kernel/sobol.py) instead of the
-    independent stream (which still gives every other number).
+    sobol_pairs: how many of a sample's 2-D points, in the order its estimator
+    asks for them, are Owen-scrambled Sobol pairs (kernel/sobol.py) instead of
+    numbers of the independent stream (which still gives every other number):
+    0 none; the +sobol strategies cover the position in the pixel and the
+    first bounce's decisions (its module says which).
     facing: at a point behind every light of the lights list (one-sided rect
     lights seen from their back: no light reaches it from them), the mixture
     draws from the cosine alone instead of sending samples to them (the books
@@ -32,7 +34,12 @@ class Sampling:
     light_weight: float
     next_event: bool = False
     roulette_depth: int = 0      # 0: no Russian roulette
-    sobol: bool = False
+    sobol_pairs: int = 0
     facing: bool = False
     estimator: str = "path"      # its module's key in integrators.ESTIMATORS
     photons: bool = False        # bdpt: caustic photon maps (integrators/photons.py)
+
+    @property
+    def sobol(self):
+        """Are any of its points low-discrepancy?"""
+        return self.sobol_pairs > 0

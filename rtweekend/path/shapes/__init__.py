@@ -8,8 +8,9 @@ for the row k of obj_f it packed:
   shading_normal(...)                  triangles only (a smooth mesh's normal)
   enters(obj_f, k, n, d)               does a ray leaving it along d (its outward
                                        normal there: n) go inside it?
-  sample_toward(obj_f, k, p, state)    a direction from p towards it (as a light;
-                                       a sphere is told whether p is on it)
+  sample_toward(obj_f, k, p, u1, u2)   the direction from p towards its point for
+                                       the unit square's (u1, u2) (as a light; a
+                                       sphere is told whether p is on it)
   pdf_toward(obj_f, k, p, d, from_self, from_inside)   that direction's density
   sample_area(obj_f, k, [part,] u1, u2)  a point uniform over its surface (a box's
                                        faces one at a time), its normal, 1 / area
@@ -152,26 +153,29 @@ def enters(scene, k, n, d):
 
 
 @jit_step
-def sample_toward(scene, k, p, from_obj, state, time):
-    """A unit direction from p (a point of object from_obj, or NO_HIT) towards
-    object k, drawn by its own light sampling."""
+def sample_toward(scene, k, p, from_obj, u1, u2, time):
+    """The unit direction from p (a point of object from_obj, or NO_HIT)
+    towards object k for the unit square's point (u1, u2), by k's own light
+    sampling: a point uniform over its area (a sphere: a direction uniform in
+    the cone it subtends).  The point comes from the sampler, so a Sobol point
+    stratifies the light's surface."""
     kind = scene.obj_i[k, OBJ_KIND]
     f = scene.obj_f
     if kind == XZ_RECT:
-        return axis_rect.sample_toward(f, k, p, state, *XZ)
+        return axis_rect.sample_toward(f, k, p, u1, u2, *XZ)
     if kind == YZ_RECT:
-        return axis_rect.sample_toward(f, k, p, state, *YZ)
+        return axis_rect.sample_toward(f, k, p, u1, u2, *YZ)
     if kind == XY_RECT:
-        return axis_rect.sample_toward(f, k, p, state, *XY)
+        return axis_rect.sample_toward(f, k, p, u1, u2, *XY)
     if kind == SPHERE:
-        return sphere.sample_toward(f, k, p, k == from_obj, state, time)
+        return sphere.sample_toward(f, k, p, k == from_obj, u1, u2, time)
     if kind == BOX:
-        return box.sample_toward(f, k, p, state)
+        return box.sample_toward(f, k, p, u1, u2)
     if kind == RECT:
-        return rect.sample_toward(f, k, p, state)
+        return rect.sample_toward(f, k, p, u1, u2)
     if kind == TRIANGLE:
-        return triangle.sample_toward(scene.tris, f, k, p, state)
-    return (NAN, NAN, NAN), state
+        return triangle.sample_toward(scene.tris, f, k, p, u1, u2)
+    return (NAN, NAN, NAN)
 
 
 @jit_step

@@ -13,7 +13,6 @@ import math
 
 import numpy as np
 
-from ...kernel import rng
 from ...kernel.jit import jit_step, like
 
 INF = math.inf
@@ -99,20 +98,19 @@ def enters(obj_f, k, n, d):
 
 
 @jit_step
-def sample_toward(obj_f, k, p, state, a, b, n):
-    """A unit direction from p to a point uniform in the rect's area."""
-    u1, state = rng.uniform(state)
-    u2, state = rng.uniform(state)
+def sample_toward(obj_f, k, p, u1, u2, a, b, n):
+    """The unit direction from p to the rect's point (u1, u2) of the unit
+    square (uniform in its area for a uniform point)."""
     x = obj_f[k, A0] + u1 * (obj_f[k, A1] - obj_f[k, A0]) - p[a]
     y = obj_f[k, B0] + u2 * (obj_f[k, B1] - obj_f[k, B0]) - p[b]
     z = obj_f[k, K] - p[n]
     inv = 1.0 / math.sqrt(x * x + y * y + z * z)
     x, y, z = x * inv, y * inv, z * inv
     if n == 2:
-        return (x, y, z), state
+        return (x, y, z)
     if n == 1:
-        return (x, z, y), state
-    return (z, x, y), state
+        return (x, z, y)
+    return (z, x, y)
 
 
 @jit_step

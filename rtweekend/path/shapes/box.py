@@ -24,7 +24,6 @@ import math
 
 import numpy as np
 
-from ...kernel import rng
 from ...kernel.jit import jit_step, like
 
 INF = math.inf
@@ -239,34 +238,27 @@ def enters(obj_f, k, n, d):
 
 
 @jit_step
-def sample_toward(obj_f, k, p, state):
-    """A unit direction from p to a point uniform over the box's surface."""
-    u, state = rng.uniform(state)
-    u1, state = rng.uniform(state)
-    u2, state = rng.uniform(state)
-    lo, hi = (obj_f[k, LO], obj_f[k, LO + 1], obj_f[k, LO + 2]), \
-        (obj_f[k, HI], obj_f[k, HI + 1], obj_f[k, HI + 2])
-    # The face: by area (the two faces normal to an axis have the same), then
-    # the side by the second half of u2.
+def sample_toward(obj_f, k, p, u1, u2):
+    """The unit direction from p to the box's surface point for the unit
+    square's (u1, u2), uniform over its whole surface for a uniform point:
+    u1 picks the axis of the face by area and is stretched back to [0, 1)
+    within its share, the halves of u2 pick the side (so that a stratified
+    point stays stratified over each face), and sample_area places it."""
+    a_x, a_y = _face_area(obj_f, k, 0), _face_area(obj_f, k, 1)
+    a_z = _face_area(obj_f, k, 2)
+    s = u1 * (a_x + a_y + a_z)
+    if s < a_x or a_y + a_z == 0.0:
+        axis, v1 = 0, s / a_x
+    elif s < a_x + a_y or a_z == 0.0:
+        axis, v1 = 1, (s - a_x) / a_y
+    else:
+        axis, v1 = 2, (s - a_x - a_y) / a_z
     high = u2 >= 0.5
-    v = 2.0 * u2 - 1.0 if high else 2.0 * u2
-    pick = u * 0.5 * _area(obj_f, k)
-    x = lo[0] + u1 * (hi[0] - lo[0])
-    y = lo[1] + v * (hi[1] - lo[1])
-    area_x = _face_area(obj_f, k, 0)
-    if pick < area_x:                                            # normal to x
-        q = (hi[0] if high else lo[0], lo[1] + u1 * (hi[1] - lo[1]),
-             lo[2] + v * (hi[2] - lo[2]))
-    elif pick < area_x + _face_area(obj_f, k, 1):                # normal to y
-        q = (x, hi[1] if high else lo[1], lo[2] + v * (hi[2] - lo[2]))
-    else:                                                        # normal to z
-        q = (x, y, hi[2] if high else lo[2])
-    w = _world_direction(obj_f, k, q)
-    dx = w[0] + obj_f[k, OFFSET] - p[0]
-    dy = w[1] + obj_f[k, OFFSET + 1] - p[1]
-    dz = w[2] + obj_f[k, OFFSET + 2] - p[2]
+    v2 = 2.0 * u2 - 1.0 if high else 2.0 * u2
+    q = sample_area(obj_f, k, 2 * axis + (1 if high else 0), min(v1, 1.0), v2)[0]
+    dx, dy, dz = q[0] - p[0], q[1] - p[1], q[2] - p[2]
     inv = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
-    return (dx * inv, dy * inv, dz * inv), state
+    return (dx * inv, dy * inv, dz * inv)
 
 
 @jit_step

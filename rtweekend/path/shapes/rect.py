@@ -18,7 +18,6 @@ import math
 
 import numpy as np
 
-from ...kernel import rng
 from ...kernel.jit import jit_step, like
 from ...kernel.vec3 import dot, madd
 
@@ -128,15 +127,14 @@ def enters(obj_f, k, n, d):
 
 
 @jit_step
-def sample_toward(obj_f, k, p, state):
-    """A unit direction from p to a point uniform in the rect's area."""
-    u1, state = rng.uniform(state)
-    u2, state = rng.uniform(state)
+def sample_toward(obj_f, k, p, u1, u2):
+    """The unit direction from p to the rect's point (u1, u2) of the unit
+    square (uniform in its area for a uniform point)."""
     dx = obj_f[k, Q] + u1 * obj_f[k, U] + u2 * obj_f[k, V] - p[0]
     dy = obj_f[k, Q + 1] + u1 * obj_f[k, U + 1] + u2 * obj_f[k, V + 1] - p[1]
     dz = obj_f[k, Q + 2] + u1 * obj_f[k, U + 2] + u2 * obj_f[k, V + 2] - p[2]
     inv = 1.0 / math.sqrt(dx * dx + dy * dy + dz * dz)
-    return (dx * inv, dy * inv, dz * inv), state
+    return (dx * inv, dy * inv, dz * inv)
 
 
 @jit_step

@@ -141,27 +141,26 @@ def one_minus_cos_theta_max(r2, dist2):
 
 
 @jit_step
-def sample_toward(obj_f, k, p, from_self, state, time):
-    """A unit direction from p, uniform in the cone the sphere subtends; from a
-    point of its own surface (from_self: rounding puts p either side of it),
-    the inward hemisphere, as pdf_toward says."""
+def sample_toward(obj_f, k, p, from_self, u1, u2, time):
+    """The unit direction from p for the unit square's point (u1, u2), uniform
+    in the cone the sphere subtends for a uniform point; from a point of its
+    own surface (from_self: rounding puts p either side of it), in the inward
+    hemisphere, as pdf_toward says.  (The sphere's own override of sampling a
+    light by its area: the cone wastes no direction on its hidden side.)"""
     c = center(obj_f, k, time)
     w = (c[0] - p[0], c[1] - p[1], c[2] - p[2])
     dist2 = dot(w, w)
     r2 = obj_f[k, RADIUS2]
-    on_it = from_self
-    if dist2 <= r2 and not on_it:
+    if dist2 <= r2 and not from_self:
         # Inside the sphere every direction hits it: uniform sphere.
-        return rng.unit_vector(state)
-    u1, state = rng.uniform(state)
-    u2, state = rng.uniform(state)
+        return rng.sphere_point(u1, u2)
     # On it: the cone is the inward hemisphere (cos theta_max = 0).
-    z = 1.0 - u2 * (1.0 if on_it else one_minus_cos_theta_max(r2, dist2))
+    z = 1.0 - u2 * (1.0 if from_self else one_minus_cos_theta_max(r2, dist2))
     phi = rng.TWO_PI * u1
     s = math.sqrt(max(0.0, 1.0 - z * z))
     w = scale(w, 1.0 / math.sqrt(dist2))
     u, v = onb(w)
-    return local(u, v, w, (math.cos(phi) * s, math.sin(phi) * s, z)), state
+    return local(u, v, w, (math.cos(phi) * s, math.sin(phi) * s, z))
 
 
 @jit_step

@@ -39,7 +39,6 @@ import math
 
 import numpy as np
 
-from ...kernel import rng
 from ...kernel.jit import jit_host, jit_step, like
 from ...kernel.vec3 import cross, dot, sub
 
@@ -279,15 +278,14 @@ def sample_area(tris, obj_f, k, u1, u2):
 
 
 @jit_step
-def sample_toward(tris, obj_f, k, p, state):
-    """A unit direction from p to a point uniform in the triangle's area."""
+def sample_toward(tris, obj_f, k, p, u1, u2):
+    """The unit direction from p to the triangle's point for the unit square's
+    (u1, u2) (uniform in its area for a uniform point)."""
     if tris is None:
-        return (NAN, NAN, NAN), state
-    u1, state = rng.uniform(state)
-    u2, state = rng.uniform(state)
+        return (NAN, NAN, NAN)
     q = sub(point(obj_f, k, u1, u2), p)
     inv = 1.0 / math.sqrt(dot(q, q))
-    return (q[0] * inv, q[1] * inv, q[2] * inv), state
+    return (q[0] * inv, q[1] * inv, q[2] * inv)
 
 
 @jit_step
