@@ -232,7 +232,7 @@ def test_second_ctrl_c_during_a_slow_write_stops_at_once_and_leaves_no_file(tmp_
     run.interrupt()                            # the second, during the write
     status, stdout, err = run.finish(timeout=60)
     assert time.monotonic() - t0 < 2.0, "the second Ctrl-C waited for the write"
-    assert status == 130
+    assert status == 130, (status, err)
     assert err.strip().splitlines()[-1] == "rtweekend: interrupted; nothing written"
     assert "Traceback" not in err and stdout == ""
     assert [f.name for f in tmp_path.iterdir()] == ["mirrors.toml"]

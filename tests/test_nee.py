@@ -37,7 +37,7 @@ def _weights(scene, k, points, n, light_weight, seed):
         u1, state = rng.uniform(state)
         u2, state = rng.uniform(state)
         e, w, inside, t, c = nee.shadow_ray(scene, p, n, k, bsdf, wo, light_weight,
-                                            (1.0, 1.0, 1.0), u, u1, u2, None, None)
+                                            (1.0, 1.0, 1.0), (u, u1, u2), None, None)
         if e == NO_HIT:
             continue
         cosine = n[0] * w[0] + n[1] * w[1] + n[2] * w[2]

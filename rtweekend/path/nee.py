@@ -62,7 +62,7 @@ def continuation_pdf(scene, bsdf, wo, p, light_weight, d, from_obj, from_inside,
 
 
 @jit_step
-def shadow_ray(scene, p, n_out, k, bsdf, wo, light_weight, beta, u, u1, u2, time, textures):
+def shadow_ray(scene, p, n_out, k, bsdf, wo, light_weight, beta, xi, time, textures):
     """One next-event sample at the point p of object k (outward normal n_out;
     its material: bsdf), reached by a path of throughput beta coming from wo:
     (emitter, direction, from_inside, t, (r, g, b)).
@@ -72,9 +72,11 @@ def shadow_ray(scene, p, n_out, k, bsdf, wo, light_weight, beta, u, u1, u2, time
     it adds (r, g, b): beta x the emitter's radiance there (0 on its back:
     one-sided) x MIS weight x f |cos| / p_e.  emitter NO_HIT: nothing to trace
     (a direction the material gives nothing, a zero density, or the emitter's
-    back).  u picks the emitter, (u1, u2) places the direction towards it (the
-    caller's sampler draws them: this function is called, not inlined).
+    back).  xi = (u, u1, u2): u picks the emitter, (u1, u2) places the
+    direction towards it (the caller's sampler draws them: this function is
+    called, not inlined).
     """
+    u, u1, u2 = xi
     e = lights.pick_emitter(scene, u)
     w = shapes.sample_toward(scene, e, p, k, u1, u2, time)
     inside = shapes.enters(scene, k, n_out, w)

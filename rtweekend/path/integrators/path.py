@@ -172,7 +172,7 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
         u, smp = sampler.uniform(smp)
         u1, u2, smp = sampler.next_2d(smp)
         target, sd, s_inside, st, light = nee.shadow_ray(
-            scene, hit.p, hit.n_out, hit.obj, bsdf, wo, lw, beta, u, u1, u2, time, textures)
+            scene, hit.p, hit.n_out, hit.obj, bsdf, wo, lw, beta, (u, u1, u2), time, textures)
         shadow = Shadow(target, hit.p, sd, s_inside, st, light)
     d, weight, smp = pdf.mixture_sample(scene, bsdf, wo, hit.p, hit.obj,
                                         lw if use_lights else 0.0, use_lights, smp, time)

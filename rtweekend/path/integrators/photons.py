@@ -154,9 +154,12 @@ def skipped(scene):
     emitters, are aimed at the lights list's objects that do not emit
     (attractors, such as a glass ball), follow smooth glass and mirrors (delta
     materials), and do not scatter in media or move with time."""
-    if not any(shape.material.kind == "diffuse_light" for shape in scene.objects):
+    def emits(shape):
+        return materials.kind_has(shape.material.kind, materials.EMITS)
+
+    if not any(emits(shape) for shape in scene.objects):
         return "no emitter to start photons on"
-    if not any(light.material.kind != "diffuse_light" for light in scene.lights):
+    if all(emits(light) for light in scene.lights):
         return "no photon targets in lights"
     if any(shape.medium or shape.moving for shape in scene.objects):
         return "no photon maps with media or motion blur"
