@@ -65,7 +65,7 @@ from ...kernel.vec3 import dot
 from ..layout import MAT_COLOR, MAT_PARAMS, N_PARAMS, OBJ_MAT
 from . import dielectric, diffuse_light, isotropic, lambertian, metal, rough_conductor
 from . import rough_dielectric
-from .flags import DELTA, EMITS, FORKS, GLOSSY, JOIN, MEDIUM, PHOTON  # noqa: F401  (for has)
+from .flags import DELTA, EMITS, FORKS, GLOSSY, JOIN, MEDIUM, PHOTON, REFRACTS  # noqa: F401
 
 # The kinds by the description's names (scene/materials.py), each its module;
 # a kind's tag (mat_i) is its place here.
@@ -96,6 +96,22 @@ def has(kind, flag):
 def kind_of(scene, k):
     """The kind of object k's material."""
     return scene.mat_i[scene.obj_i[k, OBJ_MAT]]
+
+
+@jit_step
+def smooth_ior(scene, m):
+    """The index of refraction of material m if it is a smooth interface that
+    refracts (REFRACTS: the books' glass), else 0."""
+    if has(scene.mat_i[m], REFRACTS):
+        return scene.mat_f[m, MAT_PARAMS + dielectric.IOR]
+    return 0.0
+
+
+@jit_step
+def smooth_transmittance(d, n_out, ior):
+    """What a ray along d carries across such an interface (outward normal
+    n_out) by the books' rule, 0 under total internal reflection."""
+    return dielectric.transmittance(d, n_out, ior)
 
 
 def objects_with(obj_i, mat_i, flag):

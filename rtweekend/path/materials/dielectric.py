@@ -8,9 +8,9 @@ import math
 
 from ...kernel.jit import jit_step
 from ...kernel.vec3 import dot, reflect, refract
-from .flags import DELTA, FORKS
+from .flags import DELTA, FORKS, REFRACTS
 
-FLAGS = DELTA | FORKS
+FLAGS = DELTA | FORKS | REFRACTS
 IOR = 0             # its parameter (Bsdf.params): the index of refraction
 
 
@@ -75,3 +75,18 @@ def adjoint_weight(cos_from, cos_to, front_face, ior):
     t_camera = 1.0 - schlick(min(cos_to, 1.0), 1.0 / ratio)
     t_drawn = 1.0 - schlick(min(cos_from, 1.0), ratio)
     return ratio * ratio * t_camera / t_drawn
+
+
+@jit_step
+def transmittance(d, n_out, ior):
+    """What a ray along d (unit) carries through the surface of outward normal
+    n_out, by the books' rule: 1 - schlick(cos) with the cosine it arrives
+    with; 0 under total internal reflection."""
+    c = dot(d, n_out)
+    front_face = c < 0.0
+    ratio = 1.0 / ior if front_face else ior
+    cos_theta = min(abs(c), 1.0)
+    sin_theta = math.sqrt(max(0.0, 1.0 - cos_theta * cos_theta))
+    if ratio * sin_theta > 1.0:
+        return 0.0
+    return 1.0 - schlick(cos_theta, ratio)

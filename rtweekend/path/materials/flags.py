@@ -10,3 +10,4 @@ FORKS = 16    # a delta material with two branches the light-seen pass follows b
 MEDIUM = 32    # a medium's phase function, met inside a volume, never on a surface
 GLOSSY = 64    # a glossy lobe (microfacets): compiled into a scene's kernels only
                # when one of its materials has it (SceneArrays.glossy)
+REFRACTS = 128  # a smooth interface a chain of refractions crosses (manifold.py)
