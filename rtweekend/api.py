@@ -40,7 +40,8 @@ def render(scene: Scene, spp: int | None = None, *, seed: int = 0,
     light) or "nee" (next-event estimation with MIS and Russian roulette);
     "mixture+sobol" and "nee+sobol" feed them low-discrepancy points for the
     pixel position and the first diffuse bounce (its light sample too);
-    "lightpath" (light tracing),
+    "mnee" (nee+sobol with manifold connections to the lights through smooth
+    glass); "lightpath" (light tracing),
     "bdpt" and "bdpt+sobol" (bidirectional), "bdpt+photons" (bdpt+sobol with
     caustic photon maps: consistent).  None: options.default_sampling,
     bdpt+photons or bdpt+sobol where emitters light much metal or glass, else

@@ -106,7 +106,8 @@ def build_parser():
                    "only, or nee: next-event estimation (shadow rays, MIS) with Russian "
                    "roulette; lightpath: light tracing; bdpt: bidirectional path tracing "
                    "(caustics without fireflies); +sobol: low-discrepancy points for the "
-                   "pixel position and the first bounce; bdpt+photons: bdpt+sobol with "
+                   "pixel position and the first bounce; mnee: nee+sobol with connections "
+                   "to the lights through smooth glass; bdpt+photons: bdpt+sobol with "
                    "caustic photon maps for caustics seen through glass (consistent) "
                    "(default: bdpt+photons or bdpt+sobol where light can reach metal or "
                    "glass, else mixture+sobol)")

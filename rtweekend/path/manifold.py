@@ -43,13 +43,20 @@ import math
 import numpy as np
 
 from ..kernel.jit import jit_step
+from ..kernel.stack import stack_array
 from ..kernel.vec3 import dot, madd, onb, scale, sub
-from . import materials, shapes
+from . import lights, materials, shapes
+from . import textures as texturing
 from .bvh import closest_hit
-from .layout import NO_HIT, OBJ_KIND, OBJ_MAT, SPHERE
+from .layout import LIGHT_PROB, NO_HIT, OBJ_KIND, OBJ_MAT, SPHERE
 from .shapes import sphere
 
 MAX_CHAIN = 4
+NONE = (0.0, 0.0, 0.0)
+# The stack arrays' sizes (literals: stack_array needs them when compiling).
+VERT_FLOATS = 12          # 3 MAX_CHAIN
+SYSTEM_FLOATS = 64        # (2 MAX_CHAIN)^2
+RHS_FLOATS = 16           # 2 MAX_CHAIN x 2
 MAX_STEPS = 30            # Newton steps before a solve is given up
 TOLERANCE = 1e-10         # |constraint| (a sine) at which Snell's law holds
 STEP = 1e-6               # central differences: this fraction of the chain's size
@@ -332,3 +339,82 @@ def transmittance(scene, x0, y, verts, objs, count, time):
 def first_direction(x0, y, verts, count):
     """The unit direction from x0 along the chain's first segment."""
     return _unit(sub(_neighbour(x0, y, verts, count, 1), x0))
+
+
+@jit_step
+def _visible(scene, x0, from_obj, y, light, verts, objs, count, time):
+    """Does each segment of the solved path x0, x1 .. xk, y meet nothing before
+    its far end, which it meets there (the right object, at its distance)?"""
+    a, oa = x0, from_obj
+    for i in range(count + 1):
+        b = _neighbour(x0, y, verts, count, i + 1)
+        ob = objs[i] if i < count else light
+        d = sub(b, a)
+        dist = math.sqrt(dot(d, d))
+        d = scale(d, 1.0 / dist)
+        inside = False
+        if oa != NO_HIT:
+            inside = shapes.enters(scene, oa, shapes.outward_normal(scene, oa, a, time), d)
+        k, t = closest_hit(scene, a, d, math.inf, oa, inside, time)
+        if k != ob or abs(t - dist) > 1e-6 * dist:
+            return False
+        a, oa = b, ob
+    return True
+
+
+@jit_step(inline=False)
+def connect(scene, p, k, bsdf, wo, beta, xi, time, textures):
+    """Light that reaches the point p of object k (its material: bsdf; the path
+    came from wo with throughput beta) from a point of an emitter through
+    smooth glass: xi = (u, u1, u2) picks the emitter by power and the point on
+    it by area (lights.py), as a shadow ray does; the chain from p to it is
+    solved, checked for visibility and weighed:
+    beta f |cos| L_e T J / p(y).  Nothing where no glass is in between (the
+    shadow ray's light), where the chain does not solve, or where anything
+    else blocks it.  Called, not inlined: one copy, with its own searches."""
+    u, u1, u2 = xi
+    row = lights.pick(scene, u)
+    e, y, n_y, pdf_area = lights.sample_point(scene, row, u1, u2, time)
+    verts = stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3))
+    objs = stack_array(MAX_CHAIN, np.int64)
+    count, ok = seed_chain(scene, p, k, y, e, time, verts, objs)
+    if not ok or count == 0:
+        return NONE
+    work = (stack_array(SYSTEM_FLOATS, np.float64).reshape((2 * MAX_CHAIN, 2 * MAX_CHAIN)),
+            stack_array(RHS_FLOATS, np.float64).reshape((2 * MAX_CHAIN, 2)),
+            stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3)),
+            stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3)))
+    if not solve(scene, p, y, verts, objs, count, time, work):
+        return NONE
+    arriving = sub(y, _vertex(verts, count - 1))
+    m = scene.obj_i[e, OBJ_MAT]
+    color = materials.color(scene, m)
+    if textures is not None:
+        color = texturing.color_at(scene, textures, m, e, y, color, time)
+    emits, radiance = materials.emitted_by(scene, m, dot(arriving, n_y) < 0.0, color)
+    if not emits:
+        return NONE
+    w0 = first_direction(p, y, verts, count)
+    att, f = materials.eval(bsdf, wo, w0, 1.0)
+    if f <= 0.0:
+        return NONE
+    t = transmittance(scene, p, y, verts, objs, count, time)
+    if t <= 0.0 or not _visible(scene, p, k, y, e, verts, objs, count, time):
+        return NONE
+    j = solid_angle_per_area(scene, p, y, n_y, verts, objs, count, time, work)
+    c = f * t * j / (pdf_area * scene.light_f[row, LIGHT_PROB])
+    return (beta[0] * att[0] * radiance[0] * c, beta[1] * att[1] * radiance[1] * c,
+            beta[2] * att[2] * radiance[2] * c)
+
+
+@jit_step
+def through_glass(chain, bsdf, d_in, d_out, n):
+    """The count of smooth refractions since the path's last smooth vertex
+    after a delta bounce from d_in to d_out (normal n): one more if the bounce
+    went through a REFRACTS surface, -1 (none to count) after anything else or
+    from -1.  A path that reaches an emitter with 1 .. MAX_CHAIN of them is the
+    connections' to render (path.py leaves its emission out)."""
+    if chain >= 0 and materials.has(bsdf.kind, materials.REFRACTS) and \
+            (dot(d_in, n) < 0.0) == (dot(d_out, n) < 0.0):
+        return chain + 1
+    return -1

@@ -38,7 +38,7 @@ from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
-from .. import materials, media as volumes, nee, pdf, shapes
+from .. import manifold, materials, media as volumes, nee, pdf, shapes
 from .needs import Needs, emitters_left_out
 from .sampling import Sampling
 from ..bvh import closest_hit
@@ -58,8 +58,15 @@ def _lights(strategy, arrays):
 
 
 def _features(strategy, scene, arrays):
-    """With next events, Russian roulette from strategy.roulette_depth."""
-    return {"events": strategy.roulette_depth} if _next_events(strategy, arrays) else {}
+    """With next events, Russian roulette from strategy.roulette_depth; with
+    manifold connections (strategy.manifold), `caustics` on: light through
+    smooth glass (manifold.py), in a scene without media."""
+    if not _next_events(strategy, arrays):
+        return {}
+    features = {"events": strategy.roulette_depth}
+    if strategy.manifold and not any(s.medium for s in scene.objects):
+        features["caustics"] = manifold.MAX_CHAIN
+    return features
 
 
 def _next_events(strategy, arrays):
@@ -78,6 +85,13 @@ STRATEGIES = {
     # which picks its component and places its direction (pdf.mixture_sample).
     "mixture+sobol": Sampling(0.5, sobol_pairs=2, facing=True),
     "nee+sobol": Sampling(0.5, next_event=True, roulette_depth=1, sobol_pairs=3, facing=True),
+    # nee+sobol, and at each smooth hit a connection to an emitter through smooth
+    # glass (manifold next-event estimation, manifold.py); the paths it renders
+    # -- a smooth vertex, 1 .. MAX_CHAIN refractions, an emitter -- the
+    # continuation leaves out.  Sobol pairs: the pixel, the connection, the
+    # shadow ray, the mixture.
+    "mnee": Sampling(0.5, next_event=True, roulette_depth=1, sobol_pairs=4, facing=True,
+                     manifold=True),
 }
 
 ZERO = (0.0, 0.0, 0.0)
@@ -190,13 +204,16 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
 
 
 @jit_step
-def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x):
+def trace(scene, params, ray, time, smp, events, textures, media, caustics, film, y, x):
     """The radiance along the camera ray (o, d): (radiance, seen, segments, smp),
     seen being what the camera ray saw emitted (no firefly: film.py).  When the
     film keeps feature images (a run-time test, no variant), the albedo and
     normal of what the path first sees through mirrors and glass, and the light
     it emits, go to pixel (x, y) of the film there and then (nothing more to
-    carry round the loop)."""
+    carry round the loop).  caustics: manifold connections through glass
+    (None: none; `chain` counts the smooth refractions since the last smooth
+    vertex, whose emitter they render instead)."""
+    o, d = ray
     looking = film.albedo.shape[0] > 0
     use_lights = scene.lights.shape[0] > 0 and params.light_weight > 0.0
     radiance, seen, beta = ZERO, ZERO, ONE
@@ -206,6 +223,7 @@ def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x):
     from_obj, from_inside = np.int64(NO_HIT), np.bool_(False)
     continuation = 0.0      # density d was drawn with at a smooth hit; 0: MIS not needed
     shadow = no_shadow(o, d)
+    chain = np.int64(-1)
     alive, depth, segments = params.max_depth > 0, 0, 0
     while shadow.target != NO_HIT or alive:
         shadowing = shadow.target != NO_HIT
@@ -252,6 +270,8 @@ def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x):
             looking = False
         emits, e, w = emission(scene, hit, bsdf, o, d, from_obj, from_inside, continuation,
                                time, events)
+        if caustics is not None and 1 <= chain <= caustics:
+            w = 0.0                     # the connection at the last smooth vertex found it
         if emits:
             radiance = add(radiance, scale(mul(beta, e), w))
             if depth == 0:
@@ -266,7 +286,15 @@ def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x):
             if density == 0.0:
                 break                   # absorbed (fuzzed below the surface)
             from_inside, continuation, ok = shapes.enters(scene, k, hit.n_out, d), 0.0, True
+            if caustics is not None:
+                chain = manifold.through_glass(chain, bsdf, neg(wo), d, hit.n_out)
         else:
+            if caustics is not None:
+                u, smp = sampler.uniform(smp)
+                u1, u2, smp = sampler.next_2d(smp)
+                radiance = add(radiance, manifold.connect(scene, hit.p, k, bsdf, wo, beta,
+                                                          (u, u1, u2), time, textures))
+                chain = np.int64(0)
             shadow, d, from_inside, weight, continuation, ok, smp = smooth_bounce(
                 scene, params, hit, bsdf, wo, beta, use_lights, events, textures, time, smp)
         o, from_obj = hit.p, k
@@ -279,7 +307,7 @@ def trace(scene, params, o, d, time, smp, events, textures, media, film, y, x):
 
 
 @jit_step
-def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
+def render_row(y, film, scene, params, s0, s1, events, textures, media, motion, caustics):
     """Trace samples s0..s1-1 of every pixel of row y into the film."""
     segments = 0
     width = params.width
@@ -292,8 +320,8 @@ def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
                 time, smp = sampler.uniform(smp)    # on the shutter, for the whole path
             else:
                 time = None
-            radiance, seen, n, smp = trace(scene, params, o, d, time, smp, events, textures,
-                                           media, film, y, x)
+            radiance, seen, n, smp = trace(scene, params, (o, d), time, smp, events, textures,
+                                           media, caustics, film, y, x)
             segments += n
             films.add_sample(film, y, x, s, radiance[0], radiance[1], radiance[2],
                              params.clamp, seen[0], seen[1], seen[2])
@@ -310,4 +338,5 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
     film_r, scene_r, params_r, textures_r = (by_ref(film), by_ref(scene), by_ref(params),
                                              by_ref(textures))
     for k in range(rows.shape[0]):
-        render_row(rows[k], film_r, scene_r, params_r, s0, s1, events, textures_r, media, motion)
+        render_row(rows[k], film_r, scene_r, params_r, s0, s1, events, textures_r, media, motion,
+                   caustics)

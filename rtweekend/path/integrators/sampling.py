@@ -38,6 +38,7 @@ class Sampling:
     facing: bool = False
     estimator: str = "path"      # its module's key in integrators.ESTIMATORS
     photons: bool = False        # bdpt: caustic photon maps (integrators/photons.py)
+    manifold: bool = False       # path: connections through smooth glass (manifold.py)
 
     @property
     def sobol(self):
