@@ -48,7 +48,7 @@ from ..kernel.vec3 import dot, madd, onb, scale, sub
 from . import lights, materials, shapes
 from . import textures as texturing
 from .bvh import closest_hit
-from .layout import LIGHT_PROB, NO_HIT, OBJ_KIND, OBJ_MAT, SPHERE
+from .layout import LIGHT_PROB, NO_HIT, OBJ_KIND, OBJ_MAT, SPHERE, TRIANGLE
 from .shapes import sphere
 
 MAX_CHAIN = 4
@@ -60,6 +60,7 @@ RHS_FLOATS = 16           # 2 MAX_CHAIN x 2
 MAX_STEPS = 30            # Newton steps before a solve is given up
 TOLERANCE = 1e-10         # |constraint| (a sine) at which Snell's law holds
 STEP = 1e-6               # central differences: this fraction of the chain's size
+SAME = 1e-6               # two solved vertices this fraction of the chain's size apart are one
 
 
 def workspace():
@@ -79,8 +80,8 @@ def _unit(v):
 def seed_chain(scene, x0, from_obj, y, light, time, verts, objs):
     """The smooth-glass crossings of the segment from x0 (a point of object
     from_obj) to y (a point of object `light`), in order, into verts and objs:
-    (count, ok); ok False if anything else blocks the segment first or the
-    crossings are more than MAX_CHAIN."""
+    (count, ok); ok False if anything else blocks the segment first, a
+    crossing is a mesh's, or the crossings are more than MAX_CHAIN."""
     d = sub(y, x0)
     dist = math.sqrt(dot(d, d))
     d = scale(d, 1.0 / dist)
@@ -90,8 +91,9 @@ def seed_chain(scene, x0, from_obj, y, light, time, verts, objs):
         k, t = closest_hit(scene, o, d, math.inf, last, inside, time)
         if k == light or k == NO_HIT or travelled + t >= dist * (1.0 - 1e-9):
             return count, True                  # y reached (a miss: by a rounding)
-        if materials.smooth_ior(scene, scene.obj_i[k, OBJ_MAT]) <= 0.0 or count == MAX_CHAIN:
-            return count, False
+        if materials.smooth_ior(scene, scene.obj_i[k, OBJ_MAT]) <= 0.0 or count == MAX_CHAIN or \
+                scene.obj_i[k, OBJ_KIND] == TRIANGLE:
+            return count, False     # a mesh refracts by its shading normals: not a caster
         p = madd(o, d, t)
         verts[count, 0], verts[count, 1], verts[count, 2] = p
         objs[count] = k
@@ -407,13 +409,36 @@ def connect(scene, p, k, bsdf, wo, beta, xi, time, textures):
             beta[2] * att[2] * radiance[2] * c)
 
 
+@jit_step(inline=False)
+def renders(scene, x0, k0, x1, y, light, chain, time):
+    """Is the camera's path from the smooth vertex x0 (of object k0) through
+    `chain` refractions, the first at x1, to the point y of emitter `light`
+    one that connect() finds -- the chain seeded on the segment x0 -> y has
+    as many crossings and solves to the same first vertex?  Those paths are
+    the connections' to render; the camera's paths render every other (the
+    partition is exact, whatever the solutions the walk misses)."""
+    verts = stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3))
+    objs = stack_array(MAX_CHAIN, np.int64)
+    count, ok = seed_chain(scene, x0, k0, y, light, time, verts, objs)
+    if not ok or count != chain:
+        return False
+    work = (stack_array(SYSTEM_FLOATS, np.float64).reshape((2 * MAX_CHAIN, 2 * MAX_CHAIN)),
+            stack_array(RHS_FLOATS, np.float64).reshape((2 * MAX_CHAIN, 2)),
+            stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3)),
+            stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3)))
+    if not solve(scene, x0, y, verts, objs, count, time, work):
+        return False
+    d = sub(_vertex(verts, 0), x1)
+    return dot(d, d) <= (SAME * _size(x0, y)) ** 2
+
+
 @jit_step
 def through_glass(chain, bsdf, d_in, d_out, n):
     """The count of smooth refractions since the path's last smooth vertex
     after a delta bounce from d_in to d_out (normal n): one more if the bounce
     went through a REFRACTS surface, -1 (none to count) after anything else or
-    from -1.  A path that reaches an emitter with 1 .. MAX_CHAIN of them is the
-    connections' to render (path.py leaves its emission out)."""
+    from -1.  A path that reaches an emitter with 1 .. MAX_CHAIN of them may be
+    the connections' to render (renders() says)."""
     if chain >= 0 and materials.has(bsdf.kind, materials.REFRACTS) and \
             (dot(d_in, n) < 0.0) == (dot(d_out, n) < 0.0):
         return chain + 1

@@ -223,7 +223,9 @@ def trace(scene, params, ray, time, smp, events, textures, media, caustics, film
     from_obj, from_inside = np.int64(NO_HIT), np.bool_(False)
     continuation = 0.0      # density d was drawn with at a smooth hit; 0: MIS not needed
     shadow = no_shadow(o, d)
-    chain = np.int64(-1)
+    # caustics: the last smooth vertex (its point, its object), the chain's
+    # first refraction, and how many since (-1: a reflection came between).
+    chain, smooth_p, smooth_k, first_p = np.int64(-1), o, np.int64(NO_HIT), o
     alive, depth, segments = params.max_depth > 0, 0, 0
     while shadow.target != NO_HIT or alive:
         shadowing = shadow.target != NO_HIT
@@ -270,8 +272,9 @@ def trace(scene, params, ray, time, smp, events, textures, media, caustics, film
             looking = False
         emits, e, w = emission(scene, hit, bsdf, o, d, from_obj, from_inside, continuation,
                                time, events)
-        if caustics is not None and 1 <= chain <= caustics:
-            w = 0.0                     # the connection at the last smooth vertex found it
+        if caustics is not None and emits and 1 <= chain <= caustics:
+            if manifold.renders(scene, smooth_p, smooth_k, first_p, hit.p, k, chain, time):
+                w = 0.0                 # the connection at the last smooth vertex found it
         if emits:
             radiance = add(radiance, scale(mul(beta, e), w))
             if depth == 0:
@@ -288,13 +291,15 @@ def trace(scene, params, ray, time, smp, events, textures, media, caustics, film
             from_inside, continuation, ok = shapes.enters(scene, k, hit.n_out, d), 0.0, True
             if caustics is not None:
                 chain = manifold.through_glass(chain, bsdf, neg(wo), d, hit.n_out)
+                if chain == 1:
+                    first_p = hit.p
         else:
             if caustics is not None:
                 u, smp = sampler.uniform(smp)
                 u1, u2, smp = sampler.next_2d(smp)
                 radiance = add(radiance, manifold.connect(scene, hit.p, k, bsdf, wo, beta,
                                                           (u, u1, u2), time, textures))
-                chain = np.int64(0)
+                chain, smooth_p, smooth_k = np.int64(0), hit.p, k
             shadow, d, from_inside, weight, continuation, ok, smp = smooth_bounce(
                 scene, params, hit, bsdf, wo, beta, use_lights, events, textures, time, smp)
         o, from_obj = hit.p, k
