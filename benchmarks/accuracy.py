@@ -78,6 +78,7 @@ BOOKS = {
 FAILURES = {name: dict(width=100, height=100, max_spp=4096, crop_seconds=4.0,
                        reference=f"{name}_100", reference_spp=spp, mask_above=mask)
             for name, spp, mask in (("caustic", 206848, None), ("glass_lamp", 155648, None),
+                                    ("glass_window", 262144, None),
                                     ("tiny_light", 198656, 2.0),
                                     ("mirror_light", 262144, None))}
 # Glossy materials (GGX microfacets): a rough gold box and a frosted glass ball.

@@ -1,5 +1,5 @@
 """The scenes made to break one strategy each (scenes/caustic.toml,
-glass_lamp.toml, tiny_light.toml, mirror_light.toml): bidirectional path
+glass_lamp.toml, glass_window.toml, tiny_light.toml, mirror_light.toml): bidirectional path
 tracing and the default render each the same image as Mitsuba 3's converged
 one (tests/data/reference), block by block, where the strategy the scene
 breaks is merely slow."""
@@ -10,7 +10,7 @@ import rtweekend as rt
 from conftest import failure_reference
 from stats import block_z
 
-FAILURES = ("caustic", "glass_lamp", "tiny_light", "mirror_light")
+FAILURES = ("caustic", "glass_lamp", "glass_window", "tiny_light", "mirror_light")
 
 
 
@@ -32,3 +32,15 @@ def test_failure_scenes_render_as_mitsuba_does(name, sampling):
     assert z.size == 12
     assert np.abs(z).max() < 5, f"worst quarter z = {np.abs(z).max():.2f}"
 
+
+@pytest.mark.parametrize("name", ["glass_lamp", "glass_window"])
+def test_the_connections_through_glass_render_as_mitsuba_does(name):
+    # The scenes whose light reaches the room only through smooth glass, by
+    # mnee (manifold connections and the camera paths, path/manifold.py):
+    # the same quarters as Mitsuba's converged render.
+    reference, ref_se = failure_reference(name)
+    result = rt.render(rt.load_scene(name), spp=128, width=100, height=100, sampling="mnee",
+                       seed=12, threads=2)
+    assert result.stats.nan_dropped == 0
+    z = block_z(result.image, result.stderr, reference, ref_se, 50)
+    assert np.abs(z).max() < 5, f"worst quarter z = {np.abs(z).max():.2f}"
