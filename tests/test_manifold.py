@@ -265,7 +265,7 @@ def test_through_a_ball_lens_the_camera_paths_keep_what_the_walk_misses():
     # Light above a glass ball focuses on the floor: two crossings, and near
     # the caustic more than one path from a floor point to a point of the
     # light -- the walk from the straight segment finds one.  The camera's
-    # paths keep every path the walk would not give (manifold.renders):
+    # paths keep every path the walk would not give (mnee.renders):
     # the same image as the books' mixture, block by block.
     scene = rt.Scene(camera=rt.Camera(lookfrom=(0.0, 2.5, -2.0), lookat=(0.0, 0.0, 0.0),
                                       vfov=50.0, width=12, height=12), max_depth=6)

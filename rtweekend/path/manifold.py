@@ -34,25 +34,25 @@ in its tangent plane and is pushed back radially; on a flat kind it stays on
 its plane (leaving the primitive's extent is for the visibility check of the
 solved path to find).  Meshes are not casters here.
 
+The `mnee` strategy's steps that use it are in mnee.py.
+
 Chains hold at most MAX_CHAIN vertices, in arrays the caller owns (verts
 float64 [MAX_CHAIN, 3], objs int64 [MAX_CHAIN]), and the solver works in the
-caller's arrays too (`workspace`: a kernel's steps allocate nothing).
+caller's arrays too (`workspace`, or stack arrays of the sizes below: a
+kernel's steps allocate nothing).
 """
 import math
 
 import numpy as np
 
 from ..kernel.jit import jit_step
-from ..kernel.stack import stack_array
 from ..kernel.vec3 import dot, madd, onb, scale, sub
-from . import lights, materials, shapes
-from . import textures as texturing
+from . import materials, shapes
 from .bvh import closest_hit
-from .layout import LIGHT_PROB, NO_HIT, OBJ_KIND, OBJ_MAT, SPHERE, TRIANGLE
+from .layout import NO_HIT, OBJ_KIND, OBJ_MAT, SPHERE, TRIANGLE
 from .shapes import sphere
 
 MAX_CHAIN = 4
-NONE = (0.0, 0.0, 0.0)
 # The stack arrays' sizes (literals: stack_array needs them when compiling).
 VERT_FLOATS = 12          # 3 MAX_CHAIN
 SYSTEM_FLOATS = 64        # (2 MAX_CHAIN)^2
@@ -60,7 +60,6 @@ RHS_FLOATS = 16           # 2 MAX_CHAIN x 2
 MAX_STEPS = 30            # Newton steps before a solve is given up
 TOLERANCE = 1e-10         # |constraint| (a sine) at which Snell's law holds
 STEP = 1e-6               # central differences: this fraction of the chain's size
-SAME = 1e-6               # two solved vertices this fraction of the chain's size apart are one
 
 
 def workspace():
@@ -103,18 +102,18 @@ def seed_chain(scene, x0, from_obj, y, light, time, verts, objs):
 
 
 @jit_step
-def _vertex(verts, i):
+def vertex(verts, i):
     return (verts[i, 0], verts[i, 1], verts[i, 2])
 
 
 @jit_step
-def _neighbour(x0, y, verts, count, i):
+def neighbour(x0, y, verts, count, i):
     """Vertex i of the whole path x0, x1 .. xk, y (0: x0, count + 1: y)."""
     if i == 0:
         return x0
     if i == count + 1:
         return y
-    return _vertex(verts, i - 1)
+    return vertex(verts, i - 1)
 
 
 @jit_step
@@ -123,10 +122,10 @@ def constraint(scene, x0, y, verts, objs, count, i, ref, time):
     normalised half vector's part across the surface's normal, along the two
     tangents of the frame onb(ref) (ref: a normal near the vertex's, held
     fixed while the vertex moves, so that the frame does not jump)."""
-    p = _vertex(verts, i)
+    p = vertex(verts, i)
     n = shapes.outward_normal(scene, objs[i], p, time)
-    wa = _unit(sub(_neighbour(x0, y, verts, count, i), p))
-    wb = _unit(sub(_neighbour(x0, y, verts, count, i + 2), p))
+    wa = _unit(sub(neighbour(x0, y, verts, count, i), p))
+    wb = _unit(sub(neighbour(x0, y, verts, count, i + 2), p))
     ior = materials.smooth_ior(scene, scene.obj_i[objs[i], OBJ_MAT])
     eta_a = 1.0 if dot(wa, n) > 0.0 else ior
     eta_b = 1.0 if dot(wb, n) > 0.0 else ior
@@ -139,7 +138,7 @@ def constraint(scene, x0, y, verts, objs, count, i, ref, time):
 
 @jit_step
 def _normal(scene, verts, objs, i, time):
-    return shapes.outward_normal(scene, objs[i], _vertex(verts, i), time)
+    return shapes.outward_normal(scene, objs[i], vertex(verts, i), time)
 
 
 @jit_step
@@ -175,7 +174,7 @@ def _zero(x):
 
 
 @jit_step
-def _size(x0, y):
+def size(x0, y):
     d = sub(y, x0)
     return math.sqrt(dot(d, d))
 
@@ -185,9 +184,9 @@ def _jacobian(scene, x0, y, verts, objs, count, refs, time, a):
     """a[2k, 2k]: the constraints' derivatives in the vertices' tangent
     coordinates (central differences of step STEP x the chain's size), each
     constraint in the frame of refs[i], a vertex moved in that of its normal."""
-    h = STEP * _size(x0, y)
+    h = STEP * size(x0, y)
     for j in range(count):
-        p = _vertex(verts, j)
+        p = vertex(verts, j)
         n = shapes.outward_normal(scene, objs[j], p, time)
         for axis in range(2):
             for sign in (1.0, -1.0):
@@ -196,7 +195,7 @@ def _jacobian(scene, x0, y, verts, objs, count, refs, time, a):
                 verts[j, 0], verts[j, 1], verts[j, 2] = q
                 for i in range(max(0, j - 1), min(count, j + 2)):
                     c0, c1 = constraint(scene, x0, y, verts, objs, count, i,
-                                        _vertex(refs, i), time)
+                                        vertex(refs, i), time)
                     a[2 * i, 2 * j + axis] += sign * c0 / (2.0 * h)
                     a[2 * i + 1, 2 * j + axis] += sign * c1 / (2.0 * h)
             verts[j, 0], verts[j, 1], verts[j, 2] = p
@@ -249,14 +248,14 @@ def solve(scene, x0, y, verts, objs, count, time, work):
         _zero(a)
         _jacobian(scene, x0, y, verts, objs, count, refs, time, a)
         for i in range(count):
-            c0, c1 = constraint(scene, x0, y, verts, objs, count, i, _vertex(refs, i), time)
+            c0, c1 = constraint(scene, x0, y, verts, objs, count, i, vertex(refs, i), time)
             b[2 * i, 0], b[2 * i + 1, 0] = -c0, -c1
         if not _solve_linear(a, b, 2 * count, 1):
             return False
         step = 1.0
         while True:
             for j in range(count):
-                p = _vertex(verts, j)
+                p = vertex(verts, j)
                 n = shapes.outward_normal(scene, objs[j], p, time)
                 q = _moved(scene, objs[j], p, n, step * b[2 * j, 0], step * b[2 * j + 1, 0],
                            time)
@@ -290,19 +289,19 @@ def solid_angle_per_area(scene, x0, y, n_y, verts, objs, count, time, work):
         refs[j, 0], refs[j, 1], refs[j, 2] = nj
     _jacobian(scene, x0, y, verts, objs, count, refs, time, a)
     # B: the last vertex's constraint as y moves along its surface's tangents.
-    h = STEP * _size(x0, y)
+    h = STEP * size(x0, y)
     su, sv = onb(n_y)
     i = count - 1
     for axis in range(2):
         e = su if axis == 0 else sv
-        hi = constraint(scene, x0, madd(y, e, h), verts, objs, count, i, _vertex(refs, i), time)
-        lo = constraint(scene, x0, madd(y, e, -h), verts, objs, count, i, _vertex(refs, i), time)
+        hi = constraint(scene, x0, madd(y, e, h), verts, objs, count, i, vertex(refs, i), time)
+        lo = constraint(scene, x0, madd(y, e, -h), verts, objs, count, i, vertex(refs, i), time)
         b[2 * i, axis] = -(hi[0] - lo[0]) / (2.0 * h)        # -B: dX = A^-1 (-B)
         b[2 * i + 1, axis] = -(hi[1] - lo[1]) / (2.0 * h)
     if not _solve_linear(a, b, n, 2):
         return 0.0
     # x1 moves by s1 dX[0] + t1 dX[1]; w0 turns by its part across w0 over |x1 - x0|.
-    x1 = _vertex(verts, 0)
+    x1 = vertex(verts, 0)
     s1, t1 = onb(shapes.outward_normal(scene, objs[0], x1, time))
     r = sub(x1, x0)
     dist = math.sqrt(dot(r, r))
@@ -323,10 +322,10 @@ def transmittance(scene, x0, y, verts, objs, count, time):
     or would reflect totally."""
     total = 1.0
     for i in range(count):
-        p = _vertex(verts, i)
+        p = vertex(verts, i)
         n = shapes.outward_normal(scene, objs[i], p, time)
-        d = _unit(sub(p, _neighbour(x0, y, verts, count, i)))
-        out = _unit(sub(_neighbour(x0, y, verts, count, i + 2), p))
+        d = _unit(sub(p, neighbour(x0, y, verts, count, i)))
+        out = _unit(sub(neighbour(x0, y, verts, count, i + 2), p))
         if (dot(d, n) < 0.0) != (dot(out, n) < 0.0):
             return 0.0
         ior = materials.smooth_ior(scene, scene.obj_i[objs[i], OBJ_MAT])
@@ -340,106 +339,4 @@ def transmittance(scene, x0, y, verts, objs, count, time):
 @jit_step
 def first_direction(x0, y, verts, count):
     """The unit direction from x0 along the chain's first segment."""
-    return _unit(sub(_neighbour(x0, y, verts, count, 1), x0))
-
-
-@jit_step
-def _visible(scene, x0, from_obj, y, light, verts, objs, count, time):
-    """Does each segment of the solved path x0, x1 .. xk, y meet nothing before
-    its far end, which it meets there (the right object, at its distance)?"""
-    a, oa = x0, from_obj
-    for i in range(count + 1):
-        b = _neighbour(x0, y, verts, count, i + 1)
-        ob = objs[i] if i < count else light
-        d = sub(b, a)
-        dist = math.sqrt(dot(d, d))
-        d = scale(d, 1.0 / dist)
-        inside = False
-        if oa != NO_HIT:
-            inside = shapes.enters(scene, oa, shapes.outward_normal(scene, oa, a, time), d)
-        k, t = closest_hit(scene, a, d, math.inf, oa, inside, time)
-        if k != ob or abs(t - dist) > 1e-6 * dist:
-            return False
-        a, oa = b, ob
-    return True
-
-
-@jit_step(inline=False)
-def connect(scene, p, k, bsdf, wo, beta, xi, time, textures):
-    """Light that reaches the point p of object k (its material: bsdf; the path
-    came from wo with throughput beta) from a point of an emitter through
-    smooth glass: xi = (u, u1, u2) picks the emitter by power and the point on
-    it by area (lights.py), as a shadow ray does; the chain from p to it is
-    solved, checked for visibility and weighed:
-    beta f |cos| L_e T J / p(y).  Nothing where no glass is in between (the
-    shadow ray's light), where the chain does not solve, or where anything
-    else blocks it.  Called, not inlined: one copy, with its own searches."""
-    u, u1, u2 = xi
-    row = lights.pick(scene, u)
-    e, y, n_y, pdf_area = lights.sample_point(scene, row, u1, u2, time)
-    verts = stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3))
-    objs = stack_array(MAX_CHAIN, np.int64)
-    count, ok = seed_chain(scene, p, k, y, e, time, verts, objs)
-    if not ok or count == 0:
-        return NONE
-    work = (stack_array(SYSTEM_FLOATS, np.float64).reshape((2 * MAX_CHAIN, 2 * MAX_CHAIN)),
-            stack_array(RHS_FLOATS, np.float64).reshape((2 * MAX_CHAIN, 2)),
-            stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3)),
-            stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3)))
-    if not solve(scene, p, y, verts, objs, count, time, work):
-        return NONE
-    arriving = sub(y, _vertex(verts, count - 1))
-    m = scene.obj_i[e, OBJ_MAT]
-    color = materials.color(scene, m)
-    if textures is not None:
-        color = texturing.color_at(scene, textures, m, e, y, color, time)
-    emits, radiance = materials.emitted_by(scene, m, dot(arriving, n_y) < 0.0, color)
-    if not emits:
-        return NONE
-    w0 = first_direction(p, y, verts, count)
-    att, f = materials.eval(bsdf, wo, w0, 1.0)
-    if f <= 0.0:
-        return NONE
-    t = transmittance(scene, p, y, verts, objs, count, time)
-    if t <= 0.0 or not _visible(scene, p, k, y, e, verts, objs, count, time):
-        return NONE
-    j = solid_angle_per_area(scene, p, y, n_y, verts, objs, count, time, work)
-    c = f * t * j / (pdf_area * scene.light_f[row, LIGHT_PROB])
-    return (beta[0] * att[0] * radiance[0] * c, beta[1] * att[1] * radiance[1] * c,
-            beta[2] * att[2] * radiance[2] * c)
-
-
-@jit_step(inline=False)
-def renders(scene, x0, k0, x1, y, light, chain, time):
-    """Is the camera's path from the smooth vertex x0 (of object k0) through
-    `chain` refractions, the first at x1, to the point y of emitter `light`
-    one that connect() finds -- the chain seeded on the segment x0 -> y has
-    as many crossings and solves to the same first vertex?  Those paths are
-    the connections' to render; the camera's paths render every other (the
-    partition is exact, whatever the solutions the walk misses)."""
-    verts = stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3))
-    objs = stack_array(MAX_CHAIN, np.int64)
-    count, ok = seed_chain(scene, x0, k0, y, light, time, verts, objs)
-    if not ok or count != chain:
-        return False
-    work = (stack_array(SYSTEM_FLOATS, np.float64).reshape((2 * MAX_CHAIN, 2 * MAX_CHAIN)),
-            stack_array(RHS_FLOATS, np.float64).reshape((2 * MAX_CHAIN, 2)),
-            stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3)),
-            stack_array(VERT_FLOATS, np.float64).reshape((MAX_CHAIN, 3)))
-    if not solve(scene, x0, y, verts, objs, count, time, work):
-        return False
-    d = sub(_vertex(verts, 0), x1)
-    return dot(d, d) <= (SAME * _size(x0, y)) ** 2
-
-
-@jit_step
-def through_glass(chain, bsdf, d_in, d_out, n):
-    """The count of smooth refractions since the path's last smooth vertex
-    after a delta bounce from d_in to d_out (normal n): one more if the bounce
-    went through a REFRACTS surface, -1 (none to count) after anything else or
-    from -1.  A path that reaches an emitter with 1 .. MAX_CHAIN of them may be
-    the connections' to render (renders() says)."""
-    if chain >= 0 and materials.has(bsdf.kind, materials.REFRACTS) and \
-            (dot(d_in, n) < 0.0) == (dot(d_out, n) < 0.0):
-        return chain + 1
-    return -1
+    return _unit(sub(neighbour(x0, y, verts, count, 1), x0))

@@ -38,7 +38,7 @@ from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
-from .. import manifold, materials, media as volumes, nee, pdf, shapes
+from .. import manifold, materials, media as volumes, mnee, nee, pdf, shapes
 from .needs import Needs, emitters_left_out
 from .sampling import Sampling
 from ..bvh import closest_hit
@@ -273,7 +273,7 @@ def trace(scene, params, ray, time, smp, events, textures, media, caustics, film
         emits, e, w = emission(scene, hit, bsdf, o, d, from_obj, from_inside, continuation,
                                time, events)
         if caustics is not None and emits and 1 <= chain <= caustics:
-            if manifold.renders(scene, smooth_p, smooth_k, first_p, hit.p, k, chain, time):
+            if mnee.renders(scene, smooth_p, smooth_k, first_p, hit.p, k, chain, time):
                 w = 0.0                 # the connection at the last smooth vertex found it
         if emits:
             radiance = add(radiance, scale(mul(beta, e), w))
@@ -290,14 +290,14 @@ def trace(scene, params, ray, time, smp, events, textures, media, caustics, film
                 break                   # absorbed (fuzzed below the surface)
             from_inside, continuation, ok = shapes.enters(scene, k, hit.n_out, d), 0.0, True
             if caustics is not None:
-                chain = manifold.through_glass(chain, bsdf, neg(wo), d, hit.n_out)
+                chain = mnee.through_glass(chain, bsdf, neg(wo), d, hit.n_out)
                 if chain == 1:
                     first_p = hit.p
         else:
             if caustics is not None:
                 u, smp = sampler.uniform(smp)
                 u1, u2, smp = sampler.next_2d(smp)
-                radiance = add(radiance, manifold.connect(scene, hit.p, k, bsdf, wo, beta,
+                radiance = add(radiance, mnee.connect(scene, hit.p, k, bsdf, wo, beta,
                                                           (u, u1, u2), time, textures))
                 chain, smooth_p, smooth_k = np.int64(0), hit.p, k
             shadow, d, from_inside, weight, continuation, ok, smp = smooth_bounce(
