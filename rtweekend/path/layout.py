@@ -143,6 +143,8 @@ class Features(NamedTuple):
     textures: object = None  # textures.TextureArrays
     media: object = None     # int64 [K]: the constant media's objects
     motion: object = None    # 0 when something moves
-    # bdpt's caustic photon maps (integrators/photons.py): their settings, and
-    # the maps of the samples a kernel call renders (renderer.render_samples)
+    # How caustics are rendered: bdpt's photon maps (integrators/photons.py),
+    # their settings and the maps of the samples a kernel call renders
+    # (renderer.render_samples); the path tracer's manifold connections
+    # through glass (mnee.py), the longest chain they solve
     caustics: object = None

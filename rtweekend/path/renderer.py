@@ -55,7 +55,6 @@ class Frame(NamedTuple):
         return self.params.height
 
 
-
 def freeze(scene, options, stand_in=False):
     """The Frame for rendering `scene` with validated RenderOptions.  stand_in:
     one of the same types, made in a moment (pack_scene), to compile the

@@ -38,7 +38,7 @@ from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
-from .. import manifold, materials, media as volumes, mnee, nee, pdf, shapes
+from .. import materials, media as volumes, mnee, nee, pdf, shapes
 from .needs import Needs, emitters_left_out
 from .sampling import Sampling
 from ..bvh import closest_hit
@@ -60,12 +60,12 @@ def _lights(strategy, arrays):
 def _features(strategy, scene, arrays):
     """With next events, Russian roulette from strategy.roulette_depth; with
     manifold connections (strategy.manifold), `caustics` on: light through
-    smooth glass (manifold.py), in a scene without media."""
+    smooth glass (mnee.py), in a scene without media."""
     if not _next_events(strategy, arrays):
         return {}
     features = {"events": strategy.roulette_depth}
     if strategy.manifold and not any(s.medium for s in scene.objects):
-        features["caustics"] = manifold.MAX_CHAIN
+        features["caustics"] = mnee.MAX_CHAIN
     return features
 
 

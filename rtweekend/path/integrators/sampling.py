@@ -38,9 +38,4 @@ class Sampling:
     facing: bool = False
     estimator: str = "path"      # its module's key in integrators.ESTIMATORS
     photons: bool = False        # bdpt: caustic photon maps (integrators/photons.py)
-    manifold: bool = False       # path: connections through smooth glass (manifold.py)
-
-    @property
-    def sobol(self):
-        """Are any of its points low-discrepancy?"""
-        return self.sobol_pairs > 0
+    manifold: bool = False       # path: connections through smooth glass (mnee.py)
