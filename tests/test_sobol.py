@@ -112,6 +112,38 @@ def test_1d_points_are_stratified(pixel, dim, seed):
             assert np.array_equal(np.bincount(cell, minlength=2**k), np.ones(2**k)), k
 
 
+@njit
+def _forks(pixel, fork, seed, start, n):
+    out = np.empty(n)
+    for i in range(n):
+        out[i] = sobol.sample_fork(pixel, start + i, fork, seed)
+    return out
+
+
+@pytest.mark.parametrize("pixel,fork,seed", [(0, 0, 0), (4242, 3, 1), (2**40 + 1, 1, 99)])
+def test_fork_points_are_stratified_and_their_own(pixel, fork, seed):
+    """A glass's choice (sampler.fork) takes points stratified like sample_1d's,
+    from a domain of their own: not sample_1d's or sample_2d's points of the
+    same number."""
+    for k in range(13):
+        u = _forks(pixel, fork, seed, 2**k, 2**k)
+        cell = np.floor(u * 2**k).astype(np.int64)
+        assert np.array_equal(np.bincount(cell, minlength=2**k), np.ones(2**k)), k
+    u = _forks(pixel, fork, seed, 0, 64)
+    assert not np.array_equal(u, _points_1d(pixel, fork, seed, 0, 64))
+    assert not np.array_equal(u, _points(pixel, fork, seed, 0, 64)[:, 0])
+
+
+def test_fork_points_are_decorrelated_from_the_pairs():
+    pixels, samples = 4096, 16
+    pts = _over_pixels(pixels, samples, 3)
+    forks = np.concatenate([_forks(p, 0, 3, 0, samples) for p in range(pixels)])
+    for other in (pts[:, 0], pts[:, 1], pts[:, 6]):
+        h = np.histogram2d(forks, other, bins=16, range=[[0, 1], [0, 1]])[0]
+        assert_chi2(h, np.full(h.shape, len(forks) / 256))
+        assert abs(np.corrcoef(forks, other)[0, 1]) < 5 / math.sqrt(len(forks))
+
+
 def test_each_point_is_uniform_over_pixels():
     """Every pixel is its own randomisation: sample i of 8000 pixels fills the
     square (and the interval) evenly, for every i."""

@@ -3,6 +3,7 @@
     smp = start(pixel, index, seed, pairs)
     u1, u2, smp = next_2d(smp)        # a 2-D point for a decision that stratifies
     u, smp = uniform(smp)             # one number of the independent stream
+    u, smp = fork(smp)                # a glass's choice (reflect or refract)
 
 A Sampler is plain data (no allocation, nothing shared): the sample's key, a
 dimension counter, and the state of its independent stream (rng.py).  next_2d
@@ -13,8 +14,13 @@ stream.  So an estimator asks for points in the order of its decisions, and
 the strategy says how many get Sobol points (Sampling.sobol_pairs: the +sobol
 strategies cover the position in the pixel and the first bounce's decisions,
 its light samples included).
-Draws where stratification gains nothing (a glass's choice, Russian roulette,
-the emitter picked for a shadow ray) take the stream with uniform().
+Draws where stratification gains nothing (Russian roulette, the emitter
+picked for a shadow ray) take the stream with uniform().  A glass's choice
+between reflection and refraction is a fork: behind a glass the two branches
+see very different radiance (a lamp through a glass globe against the room it
+reflects), so the first FORKS choices of a path that has Sobol pairs take
+points of their own (sobol.sample_fork, numbered by the fork, so that no other
+decision's order moves them) and later ones the stream.
 
 Determinism: every number is a pure function of (pixel, index, seed) and the
 order of the requests, so which thread or machine draws it changes nothing.
@@ -34,20 +40,24 @@ class Sampler(NamedTuple):
     dim: np.int64          # the next pair of low-discrepancy points
     pairs: np.int64        # how many pairs are low-discrepancy (the rest: the stream)
     state: np.uint64       # the independent stream (rng.py)
+    forks: np.int64        # the glass choices made so far (fork)
+
+
+FORKS = 4                  # a path's choices at glass that take Sobol points
 
 
 @jit_step
 def start(pixel, index, seed, pairs):
     """The sampler of sample `index` of `pixel`."""
     return Sampler(np.int64(pixel), np.int64(index), np.int64(seed), np.int64(0),
-                   np.int64(pairs), rng.seed_state(pixel, index, seed))
+                   np.int64(pairs), rng.seed_state(pixel, index, seed), np.int64(0))
 
 
 @jit_step
 def resume(smp, state):
     """smp with its stream at `state` (after a helper that draws from the stream
     itself, such as a shape's light sampling)."""
-    return Sampler(smp.pixel, smp.index, smp.seed, smp.dim, smp.pairs, state)
+    return Sampler(smp.pixel, smp.index, smp.seed, smp.dim, smp.pairs, state, smp.forks)
 
 
 @jit_step
@@ -69,10 +79,11 @@ def next_2d(smp):
     if smp.dim < smp.pairs:
         u1, u2 = sobol.sample_2d(smp.pixel, smp.index, smp.dim, smp.seed)
         return u1, u2, Sampler(smp.pixel, smp.index, smp.seed, smp.dim + 1, smp.pairs,
-                               smp.state)
+                               smp.state, smp.forks)
     u1, state = rng.uniform(smp.state)
     u2, state = rng.uniform(state)
-    return u1, u2, Sampler(smp.pixel, smp.index, smp.seed, smp.dim + 1, smp.pairs, state)
+    return u1, u2, Sampler(smp.pixel, smp.index, smp.seed, smp.dim + 1, smp.pairs, state,
+                           smp.forks)
 
 
 @jit_step
@@ -81,6 +92,21 @@ def next_1d(smp):
     counter is below `pairs`, else the stream)."""
     if smp.dim < smp.pairs:
         u = sobol.sample_1d(smp.pixel, smp.index, smp.dim, smp.seed)
-        return u, Sampler(smp.pixel, smp.index, smp.seed, smp.dim + 1, smp.pairs, smp.state)
+        return u, Sampler(smp.pixel, smp.index, smp.seed, smp.dim + 1, smp.pairs, smp.state,
+                          smp.forks)
     u, state = rng.uniform(smp.state)
-    return u, Sampler(smp.pixel, smp.index, smp.seed, smp.dim + 1, smp.pairs, state)
+    return u, Sampler(smp.pixel, smp.index, smp.seed, smp.dim + 1, smp.pairs, state, smp.forks)
+
+
+@jit_step
+def fork(smp):
+    """(u, sampler): the number for a glass's choice -- a Sobol point of its own
+    for the first FORKS forks of a path with Sobol pairs, else the stream's
+    next number."""
+    if smp.pairs > 0 and smp.forks < FORKS:
+        u = sobol.sample_fork(smp.pixel, smp.index, smp.forks, smp.seed)
+        return u, Sampler(smp.pixel, smp.index, smp.seed, smp.dim, smp.pairs, smp.state,
+                          smp.forks + 1)
+    u, state = rng.uniform(smp.state)
+    return u, Sampler(smp.pixel, smp.index, smp.seed, smp.dim, smp.pairs, state,
+                      smp.forks + 1)

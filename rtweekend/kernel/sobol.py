@@ -62,6 +62,7 @@ _GAMMA = np.uint64(0x9E3779B97F4A7C15)
 _DIM_KEY = np.uint64(0xC2B2AE3D27D4EB4F)   # odd, not one of rng.py's constants
 _DOMAIN_2D = np.uint64(0x165667B19E3779F9)
 _DOMAIN_1D = np.uint64(0x27D4EB2F165667C5)
+_DOMAIN_FORK = np.uint64(0x85EBCA77C2B2AE63)
 _TO_UNIT = 1.0 / 4294967296.0              # 2**-32
 
 # Bit reversal and the Pascal product: masks of bit positions.
@@ -162,6 +163,20 @@ def sample_2d(pixel, index, dim, seed):
 def sample_1d(pixel, index, dim, seed):
     """u in [0, 1): point `index` of pixel `pixel`'s randomisation of the
     Owen-scrambled, shuffled van der Corput sequence of dimension `dim`."""
-    k = _key(pixel, dim, seed, _DOMAIN_1D)
+    return _van_der_corput(_key(pixel, dim, seed, _DOMAIN_1D), index)
+
+
+@jit_step
+def sample_fork(pixel, index, fork, seed):
+    """u in [0, 1): sample_1d for the path's fork number `fork` (a glass's
+    choice between reflection and refraction), in a domain of its own: the
+    forks' points are unrelated to every dimension of sample_1d and sample_2d."""
+    return _van_der_corput(_key(pixel, fork, seed, _DOMAIN_FORK), index)
+
+
+@jit_step
+def _van_der_corput(k, index):
+    """Point `index` of the van der Corput sequence, shuffled and scrambled by
+    the key k."""
     i = reverse32(_permute(reverse32(np.uint64(index) & _M32), k & _M32))
     return to_unit(reverse32(_permute(i, k >> _S32)))

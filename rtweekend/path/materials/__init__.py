@@ -211,7 +211,7 @@ def sample_delta(bsdf, wo, smp):
         wi, ok, state = metal.scatter(d, bsdf.n, bsdf.params[metal.FUZZ], smp.state)
         return wi, bsdf.albedo, 1.0 if ok else 0.0, True, sampler.resume(smp, state)
     if bsdf.kind == DIELECTRIC:
-        u, smp = sampler.uniform(smp)
+        u, smp = sampler.fork(smp)
         return dielectric.scatter_at(d, bsdf.n, bsdf.front, bsdf.params[dielectric.IOR], u), \
             bsdf.albedo, \
             1.0, True, smp
