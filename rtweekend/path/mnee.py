@@ -27,7 +27,6 @@ from ..kernel.stack import stack_array
 from ..kernel.vec3 import dot, scale, sub
 from . import lights, manifold, materials, shapes
 from . import textures as texturing
-from .bvh import closest_hit
 from .layout import LIGHT_PROB, NO_HIT, OBJ_MAT
 # Imported by name, so that stack_array sees literals when compiling.
 from .manifold import MAX_CHAIN, RHS_FLOATS, SYSTEM_FLOATS, VERT_FLOATS
@@ -51,7 +50,7 @@ def _visible(scene, x0, from_obj, y, light, verts, objs, count, time):
         inside = False
         if oa != NO_HIT:
             inside = shapes.enters(scene, oa, shapes.outward_normal(scene, oa, a, time), d)
-        k, t = closest_hit(scene, a, d, math.inf, oa, inside, time)
+        k, t = manifold.nearest(scene, a, d, oa, inside, time)
         if k != ob or abs(t - dist) > 1e-6 * dist:
             return False
         a, oa = b, ob

@@ -44,7 +44,8 @@ from ..film import SEGMENTS
 from ..layout import NO_HIT
 from ..lights import background
 from ..materials import EMITS
-from . import mis, photons
+from . import caustics as caustic_paths
+from . import mis, photons, through_glass
 from .needs import Needs
 from .sampling import Sampling
 from .subpaths import camera_subpath, light_subpath
@@ -52,9 +53,20 @@ from .vertices import (BACK, BETA, COLOR, DELTA, FWD, MEDIUM, MKIND, NF, NG, NI,
                        SURFACE, TYPE, WO, area_factor, back_density, col, connectible,
                        direction_pdf, light_scatter, on_surface, scatter, toward)
 
-# Light tracing's strategies splat (film.py); the photon maps' needs (photons.py).
-NEEDS = Needs(splats=True, lights=photons.aimed_lights, features=photons.features,
-              runs_as=photons.runs_as, extra_bytes=photons.extra_bytes,
+
+def _features(strategy, scene, arrays):
+    return {**photons.features(strategy, scene, arrays),
+            **through_glass.features(strategy, scene, arrays)}
+
+
+def _runs_as(strategy, scene):
+    return photons.runs_as(strategy, scene) or through_glass.runs_as(strategy, scene)
+
+
+# Light tracing's strategies splat (film.py); the photon maps' needs
+# (photons.py), the manifold connections' (through_glass.py).
+NEEDS = Needs(splats=True, lights=photons.aimed_lights, features=_features,
+              runs_as=_runs_as, extra_bytes=photons.extra_bytes,
               kernels=photons.kernels, block=photons.block)
 STRATEGIES = {
     # Bidirectional path tracing (pbrt's bdpt): every way of joining a camera
@@ -65,6 +77,9 @@ STRATEGIES = {
     # bdpt+sobol, and caustic photon maps for the diffuse surfaces seen through
     # glass or in mirrors (consistent: their bias shrinks as samples add up).
     "bdpt+photons": Sampling(0.0, sobol_pairs=2, estimator="bdpt", photons=True),
+    # bdpt+sobol, and manifold connections through smooth glass for the surfaces
+    # seen through glass or in mirrors (through_glass.py; unbiased).
+    "bdpt+mnee": Sampling(0.0, sobol_pairs=2, estimator="bdpt", manifold=True),
 }
 ZERO = (0.0, 0.0, 0.0)
 INV_PI = 1.0 / math.pi
@@ -266,7 +281,7 @@ def camera_strategies(scene, params, camera_path, light_path, nc, nl, textures, 
         pt = t - 1
         if ci[pt, TYPE] == SURFACE and materials.has(ci[pt, MKIND], EMITS):
             if caustics is not None:
-                if photons.covered(scene, cf, ci, z, t):
+                if caustic_paths.covered(scene, caustics, cf, ci, z, t, time):
                     continue
             e, w = emitted(scene, params, cf, ci, t)
             radiance = add(radiance, scale(mul(col(cf, pt, BETA), e), w))
@@ -319,10 +334,10 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics
                 films.add_emission(film, y, x, light)
             z = -1
             if caustics is not None:
-                z = photons.seen_through(ci, nc)
+                z, light, smp = caustic_paths.seen(scene, caustics, s, cf, ci, nc,
+                                                   params.max_depth, textures, time, smp)
                 if z > 0:
-                    radiance = add(radiance, photons.caustic_light(scene, caustics, s, cf, ci, z,
-                                                                   params.max_depth))
+                    radiance = add(radiance, light)
             nl = 0
             if has_lights:
                 nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)
