@@ -33,13 +33,15 @@ def test_failure_scenes_render_as_mitsuba_does(name, sampling):
     assert np.abs(z).max() < 5, f"worst quarter z = {np.abs(z).max():.2f}"
 
 
+@pytest.mark.parametrize("sampling", ["mnee", "bdpt+mnee"])
 @pytest.mark.parametrize("name", ["glass_lamp", "glass_window"])
-def test_the_connections_through_glass_render_as_mitsuba_does(name):
+def test_the_connections_through_glass_render_as_mitsuba_does(name, sampling):
     # The scenes whose light reaches the room only through smooth glass, by
-    # mnee (manifold connections and the camera paths, path/manifold.py):
-    # the same quarters as Mitsuba's converged render.
+    # manifold connections (path/manifold.py) beside the camera paths (mnee)
+    # or bdpt (bdpt+mnee, glass_lamp's default): the same quarters as
+    # Mitsuba's converged render.
     reference, ref_se = failure_reference(name)
-    result = rt.render(rt.load_scene(name), spp=128, width=100, height=100, sampling="mnee",
+    result = rt.render(rt.load_scene(name), spp=128, width=100, height=100, sampling=sampling,
                        seed=12, threads=2)
     assert result.stats.nan_dropped == 0
     z = block_z(result.image, result.stderr, reference, ref_se, 50)

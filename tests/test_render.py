@@ -190,6 +190,27 @@ def test_the_default_sampling_follows_from_what_the_scene_holds():
     assert used(box) == "bdpt+sobol"
     box.lights.append(ball)                          # now something to aim photons at
     assert used(box) == "bdpt+photons"
+    # A lamp that smooth glass holds whole: manifold connections through it.
+    assert used(rt.load_scene("glass_lamp")) == "bdpt+mnee"
+    assert used(rt.load_scene("glass_window")) == "bdpt+sobol"   # the light outside the pane
+
+
+@pytest.mark.parametrize("turn,held", [(30, True), (75, False)])
+def test_a_lamp_held_whole_by_glass_is_found_in_any_placement(turn, held):
+    # A rect lamp in a turned glass box: held when turned with it; turned
+    # further about the world's y axis it ends outside the box.
+    from rtweekend.path.integrators.through_glass import encloses_an_emitter
+    scene = rt.load_scene("cornell_box")
+    scene.add(rt.box((200, 200, 200), (350, 350, 350), rt.dielectric(1.5)).rotate_y(30))
+    scene.add(rt.xz_rect(250, 300, 250, 300, 280, rt.diffuse_light((10,) * 3)).rotate_y(turn))
+    assert encloses_an_emitter(scene) == held
+    ball = rt.load_scene("cornell_box")
+    ball.add(rt.sphere((278, 300, 278), 60, rt.dielectric(1.5)))
+    ball.add(rt.sphere((278, 300, 278), 40, rt.diffuse_light((10,) * 3)))
+    assert encloses_an_emitter(ball)
+    ball.add(rt.sphere((278, 300, 278), 70, rt.diffuse_light((10,) * 3)))   # larger than it
+    ball.objects.pop(-2)
+    assert not encloses_an_emitter(ball)
 
 
 def test_the_summary_says_what_ran_and_why_when_it_is_not_what_was_asked(tmp_path, capsys):

@@ -61,9 +61,8 @@ def _field(context, builder, ref, pointer, attr):
 @intrinsic
 def by_ref(typingctx, record):
     """A Ref to `record` (a NamedTuple), valid while the calling kernel runs;
-    None stays None (a feature the kernel is compiled without), and a number
-    the number (a feature that is one: nothing to point to)."""
-    if isinstance(record, (types.NoneType, types.Number)):
+    None stays None (a feature the kernel is compiled without)."""
+    if isinstance(record, types.NoneType):
         return record(record), lambda context, builder, signature, args: args[0]
     if not isinstance(record, types.BaseNamedTuple):
         return None

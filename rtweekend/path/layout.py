@@ -143,8 +143,9 @@ class Features(NamedTuple):
     textures: object = None  # textures.TextureArrays
     media: object = None     # int64 [K]: the constant media's objects
     motion: object = None    # 0 when something moves
-    # How caustics are rendered: bdpt's photon maps (integrators/photons.py),
-    # their settings and the maps of the samples a kernel call renders
-    # (renderer.render_samples); the path tracer's manifold connections
-    # through glass (mnee.py), the longest chain they solve
+    # bdpt's caustic photon maps (integrators/photons.py): their settings and
+    # the maps of the samples a kernel call renders (renderer.render_samples)
     caustics: object = None
+    # Manifold connections through smooth glass (mnee.py; the path tracer's
+    # and bdpt's): the longest chain of refractions they solve
+    manifold: object = None

@@ -3,7 +3,7 @@ image rows, over the same scene arrays, materials, lights, sampler, camera and
 film.
 
     render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion,
-                caustics)
+                caustics, manifold)
 
 adds samples s0..s1-1 of the pixels of `rows` to the film, and NEEDS
 (needs.py) says what else it needs of the driver, which names no estimator:
@@ -17,7 +17,7 @@ renderer.render_samples, because Numba prunes `is None` tests only on
 arguments.
 """
 from ..materials import DELTA, EMITS, GLOSSY, kind_has
-from . import bdpt, light, path, photons
+from . import bdpt, light, path, photons, through_glass
 from .sampling import Sampling  # noqa: F401  (options.py's)
 
 ESTIMATORS = {"path": path, "light": light, "bdpt": bdpt}
@@ -37,19 +37,23 @@ def needs_of(strategy):
 # (SPECULAR_SHARE of its surface area or more), bidirectional path tracing finds
 # the caustics and the light through glass or off mirrors that camera paths find
 # only by chance, and its caustic photon maps the caustics seen through smooth
-# glass where the lights list names what to aim them at; elsewhere it pays for
+# glass where the lights list names what to aim them at, its manifold
+# connections the light of an emitter that smooth glass encloses (a lamp in a
+# glass globe: through_glass.encloses_an_emitter); elsewhere it pays for
 # connections that find little new (benchmarks/strategies.py and accuracy.py;
 # the figures: benchmarks/results/measurements.md).  "mixture" is the books'.
 DEFAULT_SAMPLING = "mixture+sobol"
 SPECULAR_DEFAULT = "bdpt+sobol"
 PHOTONS_DEFAULT = "bdpt+photons"
+GLASS_DEFAULT = "bdpt+mnee"
 SPECULAR_SHARE = 0.02
 
 
 def default_sampling(scene):
     """The sampling a path-traced scene gets when none is asked for:
-    bidirectional (SPECULAR_DEFAULT, or PHOTONS_DEFAULT where its caustic maps
-    serve: path/integrators/photons.serve) when it has an emitter and metal or
+    bidirectional (SPECULAR_DEFAULT; PHOTONS_DEFAULT where its caustic maps
+    serve: path/integrators/photons.serve; GLASS_DEFAULT where smooth glass
+    encloses an emitter: through_glass.py) when it has an emitter and metal or
     glass, smooth or rough, make up at least SPECULAR_SHARE of its surfaces'
     area, else DEFAULT_SAMPLING."""
     surfaces = [shape for shape in scene.objects if not shape.medium]
@@ -60,5 +64,9 @@ def default_sampling(scene):
                    if kind_has(shape.material.kind, DELTA | GLOSSY))
     if specular < SPECULAR_SHARE * total:
         return DEFAULT_SAMPLING
-    return PHOTONS_DEFAULT if photons.serve(scene) else SPECULAR_DEFAULT
+    if photons.serve(scene):
+        return PHOTONS_DEFAULT
+    if through_glass.encloses_an_emitter(scene) and through_glass.skipped(scene) is None:
+        return GLASS_DEFAULT
+    return SPECULAR_DEFAULT
 

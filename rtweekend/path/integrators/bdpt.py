@@ -268,11 +268,12 @@ def first_seen(scene, cf, ci, n, escaped, d, beta):
 
 @jit_step
 def camera_strategies(scene, params, camera_path, light_path, nc, nl, textures, media, time,
-                      smp, caustics, z):
+                      smp, glass, z):
     """Every strategy with t >= 2: (radiance for the pixel, what its camera ray
     saw emitted, rays traced, smp); camera_path, light_path: the subpaths'
-    vertex arrays, (floats, ints) each.  With caustic maps, s = 0 leaves out the
-    paths they estimate at camera vertex z (photons.covered)."""
+    vertex arrays, (floats, ints) each.  With caustic maps or manifold
+    connections (glass: the kernel's caustics and manifold), s = 0 leaves out
+    the paths they estimate at camera vertex z (caustics.covered)."""
     cf, ci = camera_path
     lf, li = light_path
     radiance, seen, rays = ZERO, ZERO, 0
@@ -280,9 +281,8 @@ def camera_strategies(scene, params, camera_path, light_path, nc, nl, textures, 
     for t in range(2, nc + 1):
         pt = t - 1
         if ci[pt, TYPE] == SURFACE and materials.has(ci[pt, MKIND], EMITS):
-            if caustics is not None:
-                if caustic_paths.covered(scene, caustics, cf, ci, z, t, time):
-                    continue
+            if caustic_paths.covered(scene, glass[0], glass[1], cf, ci, z, t, time):
+                continue
             e, w = emitted(scene, params, cf, ci, t)
             radiance = add(radiance, scale(mul(col(cf, pt, BETA), e), w))
             if t == 2:
@@ -301,12 +301,14 @@ def camera_strategies(scene, params, camera_path, light_path, nc, nl, textures, 
 
 
 @jit_step
-def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics, camera_path,
+def render_row(y, film, scene, params, s0, s1, textures, media, motion, glass, camera_path,
                light_path):
     """Samples s0..s1-1 of every pixel of row y: the camera's part to the pixel,
-    light tracing's splatted; with caustic maps (photons.py), what they give
-    where the camera sees a diffuse surface through glass or in a mirror.
-    camera_path, light_path: the subpaths' vertex arrays, (floats, ints) each."""
+    light tracing's splatted; with caustic maps (photons.py) or manifold
+    connections (through_glass.py) -- glass: the kernel's caustics and
+    manifold --, what they give where the camera sees a smooth surface through
+    glass or in a mirror (caustics.py).  camera_path, light_path: the
+    subpaths' vertex arrays, (floats, ints) each."""
     cf, ci = camera_path
     lf, li = light_path
     segments = 0
@@ -332,12 +334,10 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics
                 albedo, normal, light = first_seen(scene, cf, ci, nc, escaped, d, beta)
                 films.add_features(film, y, x, albedo, normal)
                 films.add_emission(film, y, x, light)
-            z = -1
-            if caustics is not None:
-                z, light, smp = caustic_paths.seen(scene, caustics, s, cf, ci, nc,
-                                                   params.max_depth, textures, time, smp)
-                if z > 0:
-                    radiance = add(radiance, light)
+            z, light, smp = caustic_paths.seen(scene, glass[0], glass[1], s, cf, ci, nc,
+                                               params.max_depth, textures, time, smp)
+            if z > 0:
+                radiance = add(radiance, light)
             nl = 0
             if has_lights:
                 nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)
@@ -345,7 +345,7 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics
                 mis.accumulate(lf, li, 0, nl)
             light, seen, n, smp = camera_strategies(scene, params, camera_path, light_path,
                                                     nc, nl, textures, media, time, smp,
-                                                    caustics, z)
+                                                    glass, z)
             radiance, segments = add(radiance, light), segments + n
             for sl in range(2, min(nl, params.max_depth) + 1):
                 n, smp = to_camera(scene, params, film, cf, ci, lf, li, sl, y, media, time,
@@ -357,7 +357,8 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, caustics
 
 
 @jit_kernel
-def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion, caustics):
+def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion, caustics,
+                manifold):
     """The samples s0..s1-1 of the pixels of `rows` (one thread's share of a
     pass: kernel/rows.py), with one pair of subpath arrays for all of them."""
     n = params.max_depth + 2
@@ -368,4 +369,4 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
     caustics_r = by_ref(caustics)
     for k in range(rows.shape[0]):
         render_row(rows[k], film_r, scene_r, params_r, s0, s1, textures_r, media, motion,
-                   caustics_r, (cf, ci), (lf, li))
+                   (caustics_r, manifold), (cf, ci), (lf, li))

@@ -213,7 +213,7 @@ def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
 
 @jit_kernel
 def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion,
-                caustics):
+                caustics, manifold):
     """The light paths of samples s0..s1-1 of the pixels of `rows` (one
     thread's share of a pass: kernel/rows.py); their splats may land anywhere,
     atomically (film.py)."""

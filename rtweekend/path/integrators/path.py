@@ -59,13 +59,13 @@ def _lights(strategy, arrays):
 
 def _features(strategy, scene, arrays):
     """With next events, Russian roulette from strategy.roulette_depth; with
-    manifold connections (strategy.manifold), `caustics` on: light through
+    manifold connections (strategy.manifold), `manifold` on: light through
     smooth glass (mnee.py), in a scene without media."""
     if not _next_events(strategy, arrays):
         return {}
     features = {"events": strategy.roulette_depth}
     if strategy.manifold and not any(s.medium for s in scene.objects):
-        features["caustics"] = mnee.MAX_CHAIN
+        features["manifold"] = mnee.MAX_CHAIN
     return features
 
 
@@ -204,15 +204,15 @@ def smooth_bounce(scene, params, hit, bsdf, wo, beta, use_lights, events, textur
 
 
 @jit_step
-def trace(scene, params, ray, time, smp, events, textures, media, caustics, film, y, x):
+def trace(scene, params, ray, time, smp, events, textures, media, manifold, film, y, x):
     """The radiance along the camera ray (o, d): (radiance, seen, segments, smp),
     seen being what the camera ray saw emitted (no firefly: film.py).  When the
     film keeps feature images (a run-time test, no variant), the albedo and
     normal of what the path first sees through mirrors and glass, and the light
     it emits, go to pixel (x, y) of the film there and then (nothing more to
-    carry round the loop).  caustics: manifold connections through glass
-    (None: none; `chain` counts the smooth refractions since the last smooth
-    vertex, whose emitter they render instead)."""
+    carry round the loop).  manifold: connections through glass, the longest
+    chain they solve (None: none; `chain` counts the smooth refractions since
+    the last smooth vertex, whose emitter they render instead)."""
     o, d = ray
     looking = film.albedo.shape[0] > 0
     use_lights = scene.lights.shape[0] > 0 and params.light_weight > 0.0
@@ -223,7 +223,7 @@ def trace(scene, params, ray, time, smp, events, textures, media, caustics, film
     from_obj, from_inside = np.int64(NO_HIT), np.bool_(False)
     continuation = 0.0      # density d was drawn with at a smooth hit; 0: MIS not needed
     shadow = no_shadow(o, d)
-    # caustics: the last smooth vertex (its point, its object), the chain's
+    # manifold: the last smooth vertex (its point, its object), the chain's
     # first refraction, and how many since (-1: a reflection came between).
     chain, smooth_p, smooth_k, first_p = np.int64(-1), o, np.int64(NO_HIT), o
     alive, depth, segments = params.max_depth > 0, 0, 0
@@ -272,7 +272,7 @@ def trace(scene, params, ray, time, smp, events, textures, media, caustics, film
             looking = False
         emits, e, w = emission(scene, hit, bsdf, o, d, from_obj, from_inside, continuation,
                                time, events)
-        if caustics is not None and emits and 1 <= chain <= caustics:
+        if manifold is not None and emits and 1 <= chain <= manifold:
             if mnee.renders(scene, smooth_p, smooth_k, first_p, hit.p, k, chain, time):
                 w = 0.0                 # the connection at the last smooth vertex found it
         if emits:
@@ -289,12 +289,12 @@ def trace(scene, params, ray, time, smp, events, textures, media, caustics, film
             if density == 0.0:
                 break                   # absorbed (fuzzed below the surface)
             from_inside, continuation, ok = shapes.enters(scene, k, hit.n_out, d), 0.0, True
-            if caustics is not None:
+            if manifold is not None:
                 chain = mnee.through_glass(chain, bsdf, neg(wo), d, hit.n_out)
                 if chain == 1:
                     first_p = hit.p
         else:
-            if caustics is not None:
+            if manifold is not None:
                 u, smp = sampler.uniform(smp)
                 u1, u2, smp = sampler.next_2d(smp)
                 radiance = add(radiance, mnee.connect(scene, hit.p, k, bsdf, wo, beta,
@@ -312,7 +312,7 @@ def trace(scene, params, ray, time, smp, events, textures, media, caustics, film
 
 
 @jit_step
-def render_row(y, film, scene, params, s0, s1, events, textures, media, motion, caustics):
+def render_row(y, film, scene, params, s0, s1, events, textures, media, motion, manifold):
     """Trace samples s0..s1-1 of every pixel of row y into the film."""
     segments = 0
     width = params.width
@@ -326,7 +326,7 @@ def render_row(y, film, scene, params, s0, s1, events, textures, media, motion, 
             else:
                 time = None
             radiance, seen, n, smp = trace(scene, params, (o, d), time, smp, events, textures,
-                                           media, caustics, film, y, x)
+                                           media, manifold, film, y, x)
             segments += n
             films.add_sample(film, y, x, s, radiance[0], radiance[1], radiance[2],
                              params.clamp, seen[0], seen[1], seen[2])
@@ -335,7 +335,7 @@ def render_row(y, film, scene, params, s0, s1, events, textures, media, motion, 
 
 @jit_kernel
 def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion,
-                caustics):
+                caustics, manifold):
     """Add samples s0..s1-1 of every pixel of `rows` to the film: one thread's
     share of a pass (kernel/rows.py).  Each row is written by one thread only,
     and every sum is in sample order, so the film is the same whatever the
@@ -344,4 +344,4 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
                                              by_ref(textures))
     for k in range(rows.shape[0]):
         render_row(rows[k], film_r, scene_r, params_r, s0, s1, events, textures_r, media, motion,
-                   caustics)
+                   manifold)

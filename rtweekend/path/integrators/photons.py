@@ -196,12 +196,12 @@ def extra_bytes(strategy):
 
 
 def kernels(frame):
-    return [kernel_call(frame)] if isinstance(frame.features.caustics, Caustics) else []
+    return [kernel_call(frame)] if frame.features.caustics is not None else []
 
 
 def block(frame, features, s0, s1, threads):
     """The maps of one block's samples (renderer.render_samples)."""
-    if not isinstance(features.caustics, Caustics) or s1 <= s0:
+    if features.caustics is None or s1 <= s0:
         return features
     return features._replace(caustics=build(features.caustics, frame.scene, frame.params,
                                             features.textures, s0, s1, threads))
@@ -351,8 +351,7 @@ def seen_through(ci, nc):
 @jit_step
 def seen(scene, caustics, s, cf, ci, nc, max_depth, smp):
     """(z, light, smp): the camera vertex where the maps are read (seen_through;
-    -1: none) and what map s says reaches it (caustic_light); caustics.py's
-    seen for the maps."""
+    -1: none) and what map s says reaches it (caustic_light)."""
     z = seen_through(ci, nc)
     if z > 0:
         return z, caustic_light(scene, caustics, s, cf, ci, z, max_depth), smp

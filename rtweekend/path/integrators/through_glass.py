@@ -20,11 +20,12 @@ camera's).  The camera subpath's s = 0 strategy skips these paths (covered),
 and no other strategy can make them (each would join at a delta vertex), so
 the two estimates never count a path twice.
 
-bdpt's needs (needs.py) for it: the kernel compiled with `caustics` = the
-longest chain solved (an integer, where the photon maps' strategy has its
-maps: caustics.py tells them apart); the scene as bdpt+sobol renders it
-otherwise, bit for bit, where no glass refracts or media scatter.
+bdpt's needs (needs.py) for it: the kernel compiled with `manifold` = the
+longest chain solved (layout.Features); the scene as bdpt+sobol renders it,
+bit for bit, where no glass refracts or media scatter.
 """
+import itertools
+
 import numpy as np
 
 from ...kernel import sampler
@@ -47,8 +48,63 @@ def skipped(scene):
     return None
 
 
+def encloses_an_emitter(scene):
+    """Does a smooth glass ball or box hold a whole emitter (a lamp in a glass
+    globe)?  Then every light path leaves through the glass and every shadow
+    ray meets it: what the connections are for (integrators.default_sampling)."""
+    glass = [g for g in scene.objects
+             if g.kind in ("sphere", "box") and materials.kind_has(g.material.kind, REFRACTS)]
+    return any(_holds(g, e) for e in scene.objects
+               if materials.kind_has(e.material.kind, EMITS) for g in glass)
+
+
+def _holds(glass, shape):
+    """Is the whole of `shape` inside the glass sphere or box?  A sphere by its
+    centre and radius, any other kind by the corners of its box in its own
+    frame (a mesh: never)."""
+    rot, offset = glass.placement()
+    if shape.kind == "sphere":
+        r = abs(shape.geometry[1])
+        points = [_world(shape, shape.geometry[0])]
+    elif shape.kind == "mesh":
+        return False
+    else:
+        r = 0.0
+        points = [_world(shape, p) for p in itertools.product(*zip(*_box(shape)))]
+    for p in points:
+        q = rot.T @ (p - offset)                 # in the glass's own frame
+        if glass.kind == "sphere":
+            if np.linalg.norm(q - np.asarray(glass.geometry[0])) + r >= abs(glass.geometry[1]):
+                return False
+        elif np.any(q - r <= np.asarray(glass.geometry[0])) or \
+                np.any(q + r >= np.asarray(glass.geometry[1])):
+            return False
+    return True
+
+
+def _box(shape):
+    """(lo, hi): the box of a rect, quad or box in its own frame."""
+    g, k = shape.geometry, shape.kind
+    if k == "box":
+        return np.asarray(g[0]), np.asarray(g[1])
+    if k == "quad":
+        q, u, v = (np.asarray(x) for x in g)
+        corners = [q, q + u, q + v, q + u + v]
+        return np.min(corners, axis=0), np.max(corners, axis=0)
+    a0, a1, b0, b1, c = g                           # xy_rect, xz_rect, yz_rect
+    axes = list({"xy_rect": (0, 1, 2), "xz_rect": (0, 2, 1), "yz_rect": (1, 2, 0)}[k])
+    lo, hi = np.zeros(3), np.zeros(3)
+    lo[axes], hi[axes] = (a0, b0, c), (a1, b1, c)
+    return lo, hi
+
+
+def _world(shape, p):
+    rot, offset = shape.placement()
+    return rot @ np.asarray(p, dtype=np.float64) + offset
+
+
 def features(strategy, scene, arrays):
-    return {"caustics": mnee.MAX_CHAIN} if strategy.manifold and skipped(scene) is None else {}
+    return {"manifold": mnee.MAX_CHAIN} if strategy.manifold and skipped(scene) is None else {}
 
 
 def runs_as(strategy, scene):
@@ -70,7 +126,7 @@ def seen_through(ci, nc):
     return -1
 
 
-@jit_step
+@jit_step(inline=False)
 def connected(scene, cf, ci, nc, textures, time, smp):
     """(z, light, smp): the camera vertex z (seen_through; -1: none) and the
     light a manifold connection brings it from an emitter through glass,
@@ -86,7 +142,7 @@ def connected(scene, cf, ci, nc, textures, time, smp):
     return z, light, smp
 
 
-@jit_step
+@jit_step(inline=False)
 def covered(scene, chain_max, cf, ci, z, t, time):
     """Is the path of camera vertices 0 .. t - 1 (vertex t - 1 on an emitter)
     one the connections at vertex z render?  Only refractions through smooth
