@@ -108,9 +108,10 @@ def build_parser():
                    "(caustics without fireflies); +sobol: low-discrepancy points for the "
                    "pixel position and the first bounce; mnee: nee+sobol with connections "
                    "to the lights through smooth glass; bdpt+photons: bdpt+sobol with "
-                   "caustic photon maps for caustics seen through glass (consistent) "
-                   "(default: bdpt+photons or bdpt+sobol where light can reach metal or "
-                   "glass, else mixture+sobol)")
+                   "caustic photon maps for caustics seen through glass (consistent); "
+                   "bdpt+mnee: bdpt+sobol with mnee's connections where the camera sees "
+                   "through glass (default: bdpt+photons, bdpt+mnee or bdpt+sobol where "
+                   "light can reach metal or glass, else mixture+sobol)")
     r.add_argument("--clamp", type=_option("clamp", float), metavar="X", help="cap every sample's "
                    "channels at X: fewer fireflies, but BIASED (darker); off by default")
     r.add_argument("--denoise", action="store_true", help="write the image denoised by Intel "

@@ -32,6 +32,8 @@ class RenderStats:
     #                                        pass and Open Image Denoise)
     sampling: str | None = None   # the path tracer's strategy that ran (options.SAMPLINGS)
     sampling_note: str | None = None   # why it is not the one asked for, if it is not
+    connections: int = 0     # manifold connections tried: a chain of glass to solve (mnee)
+    unsolved: int = 0        # of those, dropped: no convergence, or total internal reflection
 
     @property
     def samples_per_s(self):
@@ -83,7 +85,9 @@ class RenderStats:
                 f"{100 * self.firefly_energy:.1f}% of the energy"
                 + (f", clamped at {self.clamp:g} (biased)" if self.clamp else "")
                 + (f", denoised in {self.denoise_seconds:.2f} s"
-                   if self.denoise_seconds is not None else "") + note)
+                   if self.denoise_seconds is not None else "")
+                + (f", {self.unsolved} of {self.connections} connections through glass "
+                   "dropped unsolved" if self.connections else "") + note)
 
     @property
     def partial_note(self):

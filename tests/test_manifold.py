@@ -322,3 +322,23 @@ def test_bdpt_mnee_renders_a_scene_without_glass_as_bdpt_sobol(name, why):
     b = rt.render(scene, sampling="bdpt+sobol", **size)
     assert np.array_equal(a.image, b.image)
     assert (a.stats.sampling, a.stats.sampling_note) == ("bdpt+sobol", why)
+
+
+@pytest.mark.parametrize("sampling", ["mnee", "bdpt+mnee"])
+def test_the_summary_counts_the_connections_and_their_rays(sampling):
+    # Each connection tried (a chain of glass to solve) is counted, and those
+    # dropped unsolved (no convergence, total internal reflection) among them;
+    # the rays a connection traces (its seed's searches, the solved path's
+    # visibility) count in the rays/s figure.
+    scene = rt.load_scene("glass_lamp")
+    size = dict(width=24, height=20, spp=16, seed=3, progress=False)
+    stats = rt.render(scene, sampling=sampling, **size).stats
+    assert 0 < stats.connections and 0 <= stats.unsolved < stats.connections
+    assert f"{stats.unsolved} of {stats.connections} connections through glass" in \
+        stats.summary()
+    other = {"mnee": "nee+sobol", "bdpt+mnee": "bdpt+sobol"}[sampling]
+    without = rt.render(scene, sampling=other, **size).stats
+    assert without.connections == 0 and "connections" not in without.summary()
+    # At least the seed's two searches (to the globe, then to the lamp) per
+    # connection tried, beside paths much like the other strategy's.
+    assert stats.rays >= 0.8 * without.rays + 2 * stats.connections

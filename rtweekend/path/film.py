@@ -43,6 +43,10 @@ SPLAT_MAX = float(2 ** 24)
 # Columns of row_stats.
 SEGMENTS = 0
 DROPPED = 1
+CONNECTIONS = 2     # manifold connections tried (a chain of glass to solve: mnee.py)
+UNSOLVED = 3        # of those, dropped: the walk did not converge, or met total
+#                     internal reflection
+ROW_STATS = 4
 
 
 class Film(NamedTuple):
@@ -52,7 +56,7 @@ class Film(NamedTuple):
     partial: np.ndarray    # float64 [H, W, 3]: the unfinished block
     partial2: np.ndarray
     valid: np.ndarray      # int64 [H, W]: samples kept
-    row_stats: np.ndarray  # int64 [H, 2]: SEGMENTS, DROPPED
+    row_stats: np.ndarray  # int64 [H, ROW_STATS]: SEGMENTS, DROPPED, CONNECTIONS, UNSOLVED
     hist_n: np.ndarray     # int64 [H, HIST_BINS]
     hist_e: np.ndarray     # float64 [H, HIST_BINS]
     splat: np.ndarray      # int64 [H, W, 3]: the block in progress's splats ([0, 0, 3]: none)
@@ -75,7 +79,7 @@ def new_film(height, width, splats=False, aov=False):
     return Film(np.zeros((height, width, 3)), np.zeros((height, width, 3)),
                 np.zeros((height, width, 3)), np.zeros((height, width, 3)),
                 np.zeros((height, width), dtype=np.int64),
-                np.zeros((height, 2), dtype=np.int64),
+                np.zeros((height, ROW_STATS), dtype=np.int64),
                 np.zeros((height, HIST_BINS), dtype=np.int64),
                 np.zeros((height, HIST_BINS)),
                 np.zeros(size, dtype=np.int64), np.zeros(size, dtype=np.int64),
@@ -86,7 +90,7 @@ def new_film(height, width, splats=False, aov=False):
 def film_bytes(height, width, splats=False, aov=False):
     """The bytes new_film(height, width, splats, aov) allocates."""
     per_pixel = 4 * 3 * 8 + 8 + (4 * 3 * 8 if splats else 0) + (3 * 3 * 8 if aov else 0)
-    return height * width * per_pixel + height * (2 * 8 + HIST_BINS * (8 + 8))
+    return height * width * per_pixel + height * (ROW_STATS * 8 + HIST_BINS * (8 + 8))
 
 
 # What a render needs beyond its film: from the sums to an image

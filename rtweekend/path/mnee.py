@@ -38,8 +38,9 @@ SAME = 1e-6               # two solved vertices this fraction of the chain's siz
 
 @jit_step
 def _visible(scene, x0, from_obj, y, light, verts, objs, count, time):
-    """Does each segment of the solved path x0, x1 .. xk, y meet nothing before
-    its far end, which it meets there (the right object, at its distance)?"""
+    """(visible, rays traced): does each segment of the solved path x0, x1 ..
+    xk, y meet nothing before its far end, which it meets there (the right
+    object, at its distance)?"""
     a, oa = x0, from_obj
     for i in range(count + 1):
         b = manifold.neighbour(x0, y, verts, count, i + 1)
@@ -52,9 +53,9 @@ def _visible(scene, x0, from_obj, y, light, verts, objs, count, time):
             inside = shapes.enters(scene, oa, shapes.outward_normal(scene, oa, a, time), d)
         k, t = manifold.nearest(scene, a, d, oa, inside, time)
         if k != ob or abs(t - dist) > 1e-6 * dist:
-            return False
+            return False, i + 1
         a, oa = b, ob
-    return True
+    return True, count + 1
 
 
 @jit_step(inline=False)
@@ -66,21 +67,26 @@ def connect(scene, p, k, bsdf, wo, beta, xi, time, textures):
     solved, checked for visibility and weighed:
     beta f |cos| L_e T J / p(y).  Nothing where no glass is in between (the
     shadow ray's light), where the chain does not solve, or where anything
-    else blocks it.  Called, not inlined: one copy, with its own searches."""
+    else blocks it.  Returns (light, rays traced, tried, unsolved): tried 1
+    when there was a chain of glass to solve, unsolved 1 when the walk did not
+    converge or the solved path meets total internal reflection (the summary
+    counts them: film.CONNECTIONS, UNSOLVED).  Called, not inlined: one copy,
+    with its own searches."""
     u, u1, u2 = xi
     row = lights.pick(scene, u)
     e, y, n_y, pdf_area = lights.sample_point(scene, row, u1, u2, time)
     verts = stack_array(VERT_FLOATS, np.float64).reshape((K, 3))
     objs = stack_array(K, np.int64)
     count, ok = manifold.seed_chain(scene, p, k, y, e, time, verts, objs)
+    rays = count + 1                        # the seed's searches, the last one's miss included
     if not ok or count == 0:
-        return NONE
+        return NONE, rays, 0, 0
     work = (stack_array(SYSTEM_FLOATS, np.float64).reshape((2 * K, 2 * K)),
             stack_array(RHS_FLOATS, np.float64).reshape((2 * K, 2)),
             stack_array(VERT_FLOATS, np.float64).reshape((K, 3)),
             stack_array(VERT_FLOATS, np.float64).reshape((K, 3)))
     if not manifold.solve(scene, p, y, verts, objs, count, time, work):
-        return NONE
+        return NONE, rays, 1, 1
     arriving = sub(y, manifold.vertex(verts, count - 1))
     m = scene.obj_i[e, OBJ_MAT]
     color = materials.color(scene, m)
@@ -88,18 +94,21 @@ def connect(scene, p, k, bsdf, wo, beta, xi, time, textures):
         color = texturing.color_at(scene, textures, m, e, y, color, time)
     emits, radiance = materials.emitted_by(scene, m, dot(arriving, n_y) < 0.0, color)
     if not emits:
-        return NONE
+        return NONE, rays, 1, 0
     w0 = manifold.first_direction(p, y, verts, count)
     att, f = materials.eval(bsdf, wo, w0, 1.0)
     if f <= 0.0:
-        return NONE
+        return NONE, rays, 1, 0
     t = manifold.transmittance(scene, p, y, verts, objs, count, time)
-    if t <= 0.0 or not _visible(scene, p, k, y, e, verts, objs, count, time):
-        return NONE
+    if t <= 0.0:
+        return NONE, rays, 1, 1             # total internal reflection on the way
+    visible, n = _visible(scene, p, k, y, e, verts, objs, count, time)
+    if not visible:
+        return NONE, rays + n, 1, 0
     j = manifold.solid_angle_per_area(scene, p, y, n_y, verts, objs, count, time, work)
     c = f * t * j / (pdf_area * scene.light_f[row, LIGHT_PROB])
     return (beta[0] * att[0] * radiance[0] * c, beta[1] * att[1] * radiance[1] * c,
-            beta[2] * att[2] * radiance[2] * c)
+            beta[2] * att[2] * radiance[2] * c), rays + n, 1, 0
 
 
 @jit_step(inline=False)

@@ -30,7 +30,7 @@ from ..scene.scene import Scene
 from . import film as films
 from . import seen_light
 from .camera import pack_camera
-from .film import BLOCK_SPP, DROPPED, SEGMENTS
+from .film import BLOCK_SPP, CONNECTIONS, DROPPED, SEGMENTS, UNSOLVED
 from .integrators import ESTIMATORS, needs_of
 from .layout import Features, PathParams, SceneArrays
 from . import pack, wide_bvh
@@ -343,7 +343,9 @@ class Renderer:
             clamp=None if math.isinf(clamp) else clamp,
             stopped_by=stopped_by if interrupted else None,
             partial_rows=self.rows_done, partial_spp=self.band, sampling=self.sampling,
-            sampling_note=self.sampling_note)
+            sampling_note=self.sampling_note,
+            connections=int(row_stats[:, CONNECTIONS].sum()),
+            unsolved=int(row_stats[:, UNSOLVED].sum()))
         wanted = self.options.aov or ()
         samples = np.full(self.height, self.spp)
         if self.rows_done:              # a pass over part of the rows

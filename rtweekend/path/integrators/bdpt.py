@@ -40,7 +40,7 @@ from ...kernel.vec3 import add, at_most, dot, mul, neg, scale
 from .. import camera, lights, materials, media as volumes, shapes
 from .. import film as films
 from ..bvh import unoccluded
-from ..film import SEGMENTS
+from ..film import CONNECTIONS, SEGMENTS, UNSOLVED
 from ..layout import NO_HIT
 from ..lights import background
 from ..materials import EMITS
@@ -334,10 +334,14 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, glass, c
                 albedo, normal, light = first_seen(scene, cf, ci, nc, escaped, d, beta)
                 films.add_features(film, y, x, albedo, normal)
                 films.add_emission(film, y, x, light)
-            z, light, smp = caustic_paths.seen(scene, glass[0], glass[1], s, cf, ci, nc,
-                                               params.max_depth, textures, time, smp)
+            z, light, counts, smp = caustic_paths.seen(scene, glass[0], glass[1], s, cf, ci, nc,
+                                                       params.max_depth, textures, time, smp)
             if z > 0:
                 radiance = add(radiance, light)
+            if glass[1] is not None:             # manifold connections: what they did
+                segments += counts[0]
+                film.row_stats[y, CONNECTIONS] += counts[1]
+                film.row_stats[y, UNSOLVED] += counts[2]
             nl = 0
             if has_lights:
                 nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)

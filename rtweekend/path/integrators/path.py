@@ -43,7 +43,7 @@ from .needs import Needs, emitters_left_out
 from .sampling import Sampling
 from ..bvh import closest_hit
 from ..camera import sample_ray
-from ..film import SEGMENTS
+from ..film import CONNECTIONS, SEGMENTS, UNSOLVED
 from ..layout import NO_HIT
 from ..roulette import roulette
 from ..lights import background
@@ -297,8 +297,11 @@ def trace(scene, params, ray, time, smp, events, textures, media, manifold, film
             if manifold is not None:
                 u, smp = sampler.uniform(smp)
                 u1, u2, smp = sampler.next_2d(smp)
-                radiance = add(radiance, mnee.connect(scene, hit.p, k, bsdf, wo, beta,
-                                                          (u, u1, u2), time, textures))
+                light, n, tried, unsolved = mnee.connect(scene, hit.p, k, bsdf, wo, beta,
+                                                         (u, u1, u2), time, textures)
+                radiance, segments = add(radiance, light), segments + n
+                film.row_stats[y, CONNECTIONS] += tried
+                film.row_stats[y, UNSOLVED] += unsolved
                 chain, smooth_p, smooth_k = np.int64(0), hit.p, k
             shadow, d, from_inside, weight, continuation, ok, smp = smooth_bounce(
                 scene, params, hit, bsdf, wo, beta, use_lights, events, textures, time, smp)

@@ -128,18 +128,21 @@ def seen_through(ci, nc):
 
 @jit_step(inline=False)
 def connected(scene, cf, ci, nc, textures, time, smp):
-    """(z, light, smp): the camera vertex z (seen_through; -1: none) and the
-    light a manifold connection brings it from an emitter through glass,
-    times the camera subpath's throughput there."""
+    """(z, light, (rays, tried, unsolved), smp): the camera vertex z
+    (seen_through; -1: none) and the light a manifold connection brings it
+    from an emitter through glass, times the camera subpath's throughput
+    there; what the connection traced and whether it was tried and dropped
+    unsolved (mnee.connect)."""
     z = seen_through(ci, nc)
     if z < 0:
-        return z, ZERO, smp
+        return z, ZERO, (0, 0, 0), smp
     u, smp = sampler.uniform(smp)
     u1, u2, smp = sampler.next_2d(smp)
     wo = col(cf, z, WO)
-    light = mnee.connect(scene, col(cf, z, P), ci[z, OBJ], bsdf_facing(scene.glossy, cf, ci, z, wo),
-                         wo, col(cf, z, BETA), (u, u1, u2), time, textures)
-    return z, light, smp
+    light, rays, tried, unsolved = mnee.connect(
+        scene, col(cf, z, P), ci[z, OBJ], bsdf_facing(scene.glossy, cf, ci, z, wo), wo,
+        col(cf, z, BETA), (u, u1, u2), time, textures)
+    return z, light, (rays, tried, unsolved), smp
 
 
 @jit_step(inline=False)
