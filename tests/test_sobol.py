@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from rtweekend.kernel import rng, sobol
+from rtweekend.kernel import rng, sampler, sobol
 
 from stats import assert_chi2
 
@@ -250,3 +250,28 @@ def test_error_falls_faster_than_with_random_points(disc, use_sobol, low, high):
     err = [_rmse(2000, int(n), disc, use_sobol, exact, 7) for n in ns]
     slope = np.polyfit(np.log(ns), np.log(err), 1)[0]
     assert low < slope < high, slope
+
+
+@njit
+def _reserved(pixel, seed, pairs, n):
+    """[i] -> (reserved pair 0's u1, u2, then next_2d's u1, u2) of sample i."""
+    out = np.empty((n, 4))
+    for i in range(n):
+        smp = sampler.start(pixel, i, seed, pairs)
+        out[i, 0], out[i, 1], smp = sampler.reserved_2d(smp, 0)
+        out[i, 2], out[i, 3], smp = sampler.next_2d(smp)
+    return out
+
+
+def test_a_reserved_pair_is_a_02_net_and_leaves_the_order_as_it_is():
+    # With Sobol pairs: the reserved pair is Sobol pair RESERVED of the
+    # sample, and next_2d after it still hands out pair 0; without, both come
+    # from the stream in turn.
+    pts = _reserved(77, 5, 2, 64)
+    cell = (np.floor(pts[:, 0] * 8) * 8 + np.floor(pts[:, 1] * 8)).astype(np.int64)
+    assert np.array_equal(np.bincount(cell, minlength=64), np.ones(64))
+    assert np.array_equal(pts[:, 0:2], _points(77, sampler.RESERVED, 5, 0, 64))
+    assert np.array_equal(pts[:, 2:4], _points(77, 0, 5, 0, 64))
+    stream = _reserved(77, 5, 0, 64)
+    assert not np.array_equal(stream[:, 0:2], pts[:, 0:2])
+    assert not np.array_equal(stream[:, 0:2], stream[:, 2:4])

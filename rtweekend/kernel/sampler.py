@@ -44,6 +44,10 @@ class Sampler(NamedTuple):
 
 
 FORKS = 4                  # a path's choices at glass that take Sobol points
+# A pair of Sobol dimensions no estimator's order reaches (next_2d hands out
+# Sobol pairs only below `pairs`, a handful): for a decision made once per
+# sample at a place of its own (reserved_2d).
+RESERVED = 64
 
 
 @jit_step
@@ -110,3 +114,18 @@ def fork(smp):
     u, state = rng.uniform(smp.state)
     return u, Sampler(smp.pixel, smp.index, smp.seed, smp.dim, smp.pairs, state,
                       smp.forks + 1)
+
+
+@jit_step
+def reserved_2d(smp, k):
+    """(u1, u2, sampler): reserved Sobol pair k (RESERVED + k) of a sample with
+    Sobol pairs -- outside the counter's order, which it leaves as it is --
+    else two numbers of the stream.  For a decision each sample makes at most
+    once, wherever it falls in the order: bdpt's manifold connection
+    (integrators/through_glass.py)."""
+    if smp.pairs > 0:
+        u1, u2 = sobol.sample_2d(smp.pixel, smp.index, RESERVED + k, smp.seed)
+        return u1, u2, smp
+    u1, state = rng.uniform(smp.state)
+    u2, state = rng.uniform(state)
+    return u1, u2, resume(smp, state)

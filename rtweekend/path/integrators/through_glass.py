@@ -137,7 +137,7 @@ def connected(scene, cf, ci, nc, textures, time, smp):
     if z < 0:
         return z, ZERO, (0, 0, 0), smp
     u, smp = sampler.uniform(smp)
-    u1, u2, smp = sampler.next_2d(smp)
+    u1, u2, smp = sampler.reserved_2d(smp, 0)   # the point on the emitter: stratified
     wo = col(cf, z, WO)
     light, rays, tried, unsolved = mnee.connect(
         scene, col(cf, z, P), ci[z, OBJ], bsdf_facing(scene.glossy, cf, ci, z, wo), wo,
