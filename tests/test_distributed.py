@@ -75,6 +75,18 @@ def test_caustic_photon_maps_are_the_same_bits_as_a_local_render(client):
                 rt.render(scene, spp=40, **options))
 
 
+def test_connections_through_glass_are_the_same_bits_as_a_local_render(client):
+    # bdpt+mnee: each worker's connections draw from the samples' own keys; the
+    # counts of connections tried and dropped travel with the blocks' films.
+    scene = rt.load_scene("glass_lamp")
+    options = dict(SMALL, sampling="bdpt+mnee")
+    far = rt.render(scene, spp=40, client=client, **options)
+    local = rt.render(scene, spp=40, **options)
+    assert_same(far, local)
+    assert far.stats.connections == local.stats.connections > 0
+    assert far.stats.unsolved == local.stats.unsolved
+
+
 @pytest.mark.parametrize("sampling", ["lightpath", "bdpt"])
 def test_light_carried_to_the_camera_is_the_same_bits_as_a_local_render(cornell_box, client,
                                                                        sampling):
