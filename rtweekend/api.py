@@ -43,9 +43,10 @@ def render(scene: Scene, spp: int | None = None, *, seed: int = 0,
     "mnee" (nee+sobol with manifold connections to the lights through smooth
     glass); "lightpath" (light tracing),
     "bdpt" and "bdpt+sobol" (bidirectional), "bdpt+photons" (bdpt+sobol with
-    caustic photon maps: consistent).  None: options.default_sampling,
-    bdpt+photons or bdpt+sobol where emitters light much metal or glass, else
-    mixture+sobol.
+    caustic photon maps: consistent), "bdpt+mnee" (bdpt+sobol with mnee's
+    connections where the camera sees through glass).  None:
+    options.default_sampling, bdpt+photons, bdpt+mnee or bdpt+sobol where
+    emitters light much metal or glass, else mixture+sobol.
     progress: True for a bar on stderr, or a callable
     progress(spp_done, spp_total_or_None, samples_per_s).  bvh: force the
     hierarchy on (True) or off (False); by default scenes with many objects use it.

@@ -13,24 +13,29 @@ from stats import block_z
 FAILURES = ("caustic", "glass_lamp", "glass_window", "tiny_light", "mirror_light")
 
 
-
-@pytest.mark.parametrize("sampling", ["bdpt+sobol", "mixture+sobol"])
-@pytest.mark.parametrize("name", FAILURES)
-def test_failure_scenes_render_as_mitsuba_does(name, sampling):
-    # The image's quarters, 50 x 50 pixels each.  The light these scenes make
-    # hard arrives in rare large samples: in a small block the spread of a few
-    # batches then understates the standard error, and a render without the
-    # rare sample is low with a small error bar (20 x 20 blocks: |z| up to 7,
-    # and a mean z of -0.3 to -0.8 over seeds, where the mean of 8 seeds'
-    # renders met the reference within |z| 2.3).  A quarter holds enough of
-    # them for the normal approximation.
+def assert_quarters_match(name, sampling, spp, seed):
+    """The render's quarters, 50 x 50 pixels each, against Mitsuba's converged
+    one: no NaN, every quarter within 5 combined standard errors."""
     reference, ref_se = failure_reference(name)
-    result = rt.render(rt.load_scene(name), spp=256, width=100, height=100, sampling=sampling,
-                       seed=11, threads=2)
+    result = rt.render(rt.load_scene(name), spp=spp, width=100, height=100, sampling=sampling,
+                       seed=seed, threads=2)
     assert result.stats.nan_dropped == 0
     z = block_z(result.image, result.stderr, reference, ref_se, 50)
     assert z.size == 12
     assert np.abs(z).max() < 5, f"worst quarter z = {np.abs(z).max():.2f}"
+
+
+@pytest.mark.parametrize("sampling", ["bdpt+sobol", "mixture+sobol"])
+@pytest.mark.parametrize("name", FAILURES)
+def test_failure_scenes_render_as_mitsuba_does(name, sampling):
+    # Quarters: the light these scenes make hard arrives in rare large
+    # samples: in a small block the spread of a few batches then understates
+    # the standard error, and a render without the rare sample is low with a
+    # small error bar (20 x 20 blocks: |z| up to 7, and a mean z of -0.3 to
+    # -0.8 over seeds, where the mean of 8 seeds' renders met the reference
+    # within |z| 2.3).  A quarter holds enough of them for the normal
+    # approximation.
+    assert_quarters_match(name, sampling, spp=256, seed=11)
 
 
 @pytest.mark.parametrize("sampling", ["mnee", "bdpt+mnee"])
@@ -40,9 +45,4 @@ def test_the_connections_through_glass_render_as_mitsuba_does(name, sampling):
     # manifold connections (path/manifold.py) beside the camera paths (mnee)
     # or bdpt (bdpt+mnee, glass_lamp's default): the same quarters as
     # Mitsuba's converged render.
-    reference, ref_se = failure_reference(name)
-    result = rt.render(rt.load_scene(name), spp=128, width=100, height=100, sampling=sampling,
-                       seed=12, threads=2)
-    assert result.stats.nan_dropped == 0
-    z = block_z(result.image, result.stderr, reference, ref_se, 50)
-    assert np.abs(z).max() < 5, f"worst quarter z = {np.abs(z).max():.2f}"
+    assert_quarters_match(name, sampling, spp=128, seed=12)

@@ -135,13 +135,13 @@ def renders(scene, x0, k0, x1, y, light, chain, time):
 
 
 @jit_step
-def through_glass(chain, bsdf, d_in, d_out, n):
+def through_glass(chain, kind, d_in, d_out, n):
     """The count of smooth refractions since the path's last smooth vertex
-    after a delta bounce from d_in to d_out (normal n): one more if the bounce
-    went through a REFRACTS surface, -1 (none to count) after anything else or
-    from -1.  A path that reaches an emitter with 1 .. MAX_CHAIN of them may be
-    the connections' to render (renders() says)."""
-    if chain >= 0 and materials.has(bsdf.kind, materials.REFRACTS) and \
+    after a delta bounce from d_in to d_out (normal n) at a material of `kind`:
+    one more if the bounce went through a REFRACTS surface, -1 (none to count)
+    after anything else or from -1.  A path that reaches an emitter with 1 ..
+    MAX_CHAIN of them may be the connections' to render (renders() says)."""
+    if chain >= 0 and materials.has(kind, materials.REFRACTS) and \
             (dot(d_in, n) < 0.0) == (dot(d_out, n) < 0.0):
         return chain + 1
     return -1

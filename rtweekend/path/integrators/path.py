@@ -290,7 +290,7 @@ def trace(scene, params, ray, time, smp, events, textures, media, manifold, film
                 break                   # absorbed (fuzzed below the surface)
             from_inside, continuation, ok = shapes.enters(scene, k, hit.n_out, d), 0.0, True
             if manifold is not None:
-                chain = mnee.through_glass(chain, bsdf, neg(wo), d, hit.n_out)
+                chain = mnee.through_glass(chain, bsdf.kind, neg(wo), d, hit.n_out)
                 if chain == 1:
                     first_p = hit.p
         else:

@@ -38,4 +38,4 @@ class Sampling:
     facing: bool = False
     estimator: str = "path"      # its module's key in integrators.ESTIMATORS
     photons: bool = False        # bdpt: caustic photon maps (integrators/photons.py)
-    manifold: bool = False       # path: connections through smooth glass (mnee.py)
+    manifold: bool = False       # path, bdpt: connections through smooth glass (mnee.py)

@@ -30,7 +30,7 @@ import numpy as np
 
 from ...kernel import sampler
 from ...kernel.jit import jit_step
-from ...kernel.vec3 import dot, neg
+from ...kernel.vec3 import neg
 from .. import materials, mnee
 from ..materials import EMITS, REFRACTS
 from .vertices import (BETA, DELTA, MKIND, NG, OBJ, P, SURFACE, TYPE, WO, bsdf_facing, col,
@@ -155,13 +155,14 @@ def covered(scene, chain_max, cf, ci, z, t, time):
     chain = pt - 1 - z
     if z < 0 or chain < 1 or chain > chain_max:
         return False
+    refractions = 0
     for i in range(z + 1, pt):
-        if ci[i, DELTA] == 0 or ci[i, TYPE] != SURFACE or \
-                not materials.has(ci[i, MKIND], REFRACTS):
+        if ci[i, DELTA] == 0 or ci[i, TYPE] != SURFACE:
             return False
-        n = col(cf, i, NG)
         d_out, _ = toward(col(cf, i, P), col(cf, i + 1, P))
-        if (dot(neg(col(cf, i, WO)), n) < 0.0) != (dot(d_out, n) < 0.0):
-            return False                    # reflected: not a refraction
+        refractions = mnee.through_glass(refractions, ci[i, MKIND], neg(col(cf, i, WO)), d_out,
+                                         col(cf, i, NG))
+        if refractions < 0:
+            return False                    # not a refraction through smooth glass
     return mnee.renders(scene, col(cf, z, P), ci[z, OBJ], col(cf, z + 1, P), col(cf, pt, P),
                         ci[pt, OBJ], np.int64(chain), time)

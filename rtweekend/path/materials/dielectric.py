@@ -30,6 +30,14 @@ def schlick(cosine, ref_idx):
 
 
 @jit_step
+def total_internal(cos_theta, ratio):
+    """Does a ray arriving at cos_theta reflect totally (Snell's law has no
+    refraction for eta_from / eta_to = ratio)?"""
+    sin_theta = math.sqrt(max(0.0, 1.0 - cos_theta * cos_theta))
+    return ratio * sin_theta > 1.0
+
+
+@jit_step
 def scatter_at(d, n, front_face, ior, u):
     """The direction for a unit d meeting the normal n that faces it, and u in [0, 1):
     reflected when u < the reflectance.
@@ -38,8 +46,7 @@ def scatter_at(d, n, front_face, ior, u):
     square root there never sees a negative argument."""
     ratio = 1.0 / ior if front_face else ior
     cos_theta = min(-dot(d, n), 1.0)
-    sin_theta = math.sqrt(max(0.0, 1.0 - cos_theta * cos_theta))
-    if ratio * sin_theta > 1.0 or schlick(cos_theta, ratio) > u:
+    if total_internal(cos_theta, ratio) or schlick(cos_theta, ratio) > u:
         return reflect(d, n)
     return refract(d, n, ratio)
 
@@ -51,9 +58,8 @@ def branches(d, n, front_face, ior):
     reflectance is 1 and the refracted direction is the reflected one."""
     ratio = 1.0 / ior if front_face else ior
     cos_theta = min(-dot(d, n), 1.0)
-    sin_theta = math.sqrt(max(0.0, 1.0 - cos_theta * cos_theta))
     r = reflect(d, n)
-    if ratio * sin_theta > 1.0:
+    if total_internal(cos_theta, ratio):
         return r, r, 1.0
     return r, refract(d, n, ratio), schlick(cos_theta, ratio)
 
@@ -86,7 +92,6 @@ def transmittance(d, n_out, ior):
     front_face = c < 0.0
     ratio = 1.0 / ior if front_face else ior
     cos_theta = min(abs(c), 1.0)
-    sin_theta = math.sqrt(max(0.0, 1.0 - cos_theta * cos_theta))
-    if ratio * sin_theta > 1.0:
+    if total_internal(cos_theta, ratio):
         return 0.0
     return 1.0 - schlick(cos_theta, ratio)
