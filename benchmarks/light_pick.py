@@ -22,7 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from common import machine, parser, save_json  # noqa: E402
 
 import rtweekend as rt  # noqa: E402
-from rtweekend.path.layout import LIGHT_CDF, LIGHT_PROB  # noqa: E402
+from rtweekend.path.layout import EMITTED, LIGHT_CDF, LIGHT_PROB  # noqa: E402
 
 
 def bright_and_dim():
@@ -40,12 +40,12 @@ def uniformly(renderer):
     """The renderer with its emitters picked uniformly instead of by power."""
     f = renderer.frame
     a = f.scene
-    rows = len(a.light_rows)
+    first, rows = a.light_ranges[EMITTED]
     light_f = a.light_f.copy()
-    light_f[:, LIGHT_PROB] = 1.0 / rows
-    light_f[:, LIGHT_CDF] = np.arange(1, rows + 1) / rows
+    light_f[first:rows, LIGHT_PROB] = 1.0 / rows
+    light_f[first:rows, LIGHT_CDF] = np.arange(1, rows + 1) / rows
     pick = np.zeros_like(a.light_pick)
-    np.add.at(pick, a.light_rows[:, 0], 1.0 / rows)
+    np.add.at(pick, a.light_rows[first:rows, 0], 1.0 / rows)
     renderer.frame = f._replace(scene=a._replace(light_f=light_f, light_pick=pick))
     return renderer
 

@@ -1,5 +1,7 @@
-"""The light layer (path/lights.py): one row per emissive primitive (a box's six
-faces), picked by power, and points drawn uniformly over each row's area."""
+"""The light layer (path/lights.py): one table -- a row per emissive primitive (a
+box's six faces), picked by power, then the books' lights list, picked
+uniformly -- one picker for both, and points drawn uniformly over each
+emitting row's area."""
 import math
 
 import numpy as np
@@ -10,8 +12,8 @@ import rtweekend as rt
 from rtweekend.kernel import rng
 from rtweekend.kernel.vec3 import dot
 from rtweekend.path import lights, shapes
-from rtweekend.path.layout import (LIGHT_AREA, LIGHT_CDF, LIGHT_PART, LIGHT_POWER,
-                                   LIGHT_PROB)
+from rtweekend.path.layout import (EMITTED, LIGHT_AREA, LIGHT_CDF, LIGHT_PART, LIGHT_POWER,
+                                   LIGHT_PROB, LISTED)
 from rtweekend.path.pack import pack_scene
 
 from stats import assert_chi2
@@ -43,7 +45,9 @@ LIGHTS = {
 def test_one_row_per_primitive_and_six_for_a_box():
     a = _arrays(rt.xz_rect(-1, 1, -1, 1, 2, GLOW), rt.sphere((0, 0, 0), 1, GREY),
                 rt.box((0, 0, 0), (1, 2, 3), GLOW))
-    assert [tuple(r) for r in a.light_rows] == [(0, -1)] + [(2, f) for f in range(6)]
+    assert [tuple(r) for r in a.light_rows] == \
+        [(0, -1, EMITTED)] + [(2, f, EMITTED) for f in range(6)]
+    assert a.light_ranges.tolist() == [[0, 7], [7, 7]]      # no lights list
     np.testing.assert_allclose(a.light_f[1:, LIGHT_AREA], [6, 6, 3, 3, 2, 2])
     np.testing.assert_allclose(a.light_f[:, LIGHT_AREA].sum(), 4 + 22)
     assert a.light_pick[1] == 0.0                     # the grey sphere emits nothing
@@ -60,7 +64,7 @@ def test_rows_are_picked_by_power():
     # pick: the share of a fine uniform grid of u that lands on each row is its
     # probability, to the grid's resolution.
     u = (np.arange(100_000) + 0.5) / 100_000
-    rows = np.array([lights.pick(a, x) for x in u[::97]])
+    rows = np.array([lights.pick(a, EMITTED, x) for x in u[::97]])
     counts = np.bincount(_picks(a, u), minlength=2) / len(u)
     np.testing.assert_allclose(counts, a.light_f[:, LIGHT_PROB], atol=2e-5)
     assert set(rows) == {0, 1}
@@ -76,8 +80,72 @@ def test_black_emitters_are_picked_by_area():
 def _picks(a, u):
     out = np.empty(len(u), dtype=np.int64)
     for i in range(len(u)):
-        out[i] = lights.pick(a, u[i])
+        out[i] = lights.pick(a, EMITTED, u[i])
     return out
+
+
+def _listed_scene(n_attractors):
+    """An emitting rect and a grey ball, both in the lights list, then
+    n_attractors glass balls in it too, and an emitting sphere not in it."""
+    scene = rt.Scene()
+    scene.add(rt.xz_rect(-1, 1, -1, 1, 2, GLOW), light=True)
+    scene.add(rt.sphere((0, 0, 0), 0.5, GREY), light=True)
+    for i in range(n_attractors):
+        scene.add(rt.sphere((2 + i, 0, 0), 0.3, rt.dielectric(1.5)), light=True)
+    scene.add(rt.sphere((0, 5, 0), 0.5, DIM))
+    return pack_scene(scene)
+
+
+def test_the_lights_list_follows_the_emitters_in_one_table():
+    a = _listed_scene(2)
+    e = 2                                   # the rect and the dim sphere emit
+    assert a.light_ranges.tolist() == [[0, e], [e, e + 4]]
+    assert [tuple(r) for r in a.light_rows] == [
+        (0, -1, EMITTED), (4, -1, EMITTED),
+        (0, -1, LISTED), (1, -1, LISTED), (2, -1, LISTED), (3, -1, LISTED)]
+    assert lights.listed(a).tolist() == [0, 1, 2, 3]
+    assert lights.emitters(a).tolist() == [0, 4]
+    np.testing.assert_allclose(a.light_f[e:, LIGHT_PROB], 0.25)
+    assert a.light_f[e:, LIGHT_CDF].tolist() == [0.25, 0.5, 0.75, 1.0]
+    # the emitters' distribution is their own: the list changes nothing of it
+    alone = _arrays(rt.xz_rect(-1, 1, -1, 1, 2, GLOW), rt.sphere((0, 5, 0), 0.5, DIM))
+    np.testing.assert_array_equal(a.light_f[:e], alone.light_f)
+    assert a.light_pick[[0, 4]].tolist() == alone.light_pick.tolist()
+    # next events leave the emitters out of the list: the attractors stay, sorted
+    from rtweekend.path.integrators.needs import emitters_left_out
+    b = emitters_left_out(a)
+    assert lights.listed(b).tolist() == [1, 2, 3]
+    assert b.light_ranges.tolist() == [[0, e], [e, e + 3]]
+    np.testing.assert_array_equal(b.light_f[:e], a.light_f[:e])
+
+
+@njit
+def _listed_picks(a, u):
+    out = np.empty((len(u), 2))
+    for i in range(len(u)):
+        row = lights.pick(a, LISTED, u[i])
+        out[i, 0], out[i, 1] = row, lights.stretched(a, LISTED, row, u[i])
+    return out
+
+
+@pytest.mark.parametrize("n", [1, 2, 4, 3, 5])
+def test_the_listed_pick_is_the_books_uniform_pick(n):
+    """pick over the list's rows is the books' int(u n) (exactly, for a list of
+    1, 2 or 4: every bundled scene's images keep their bits), and u stretched
+    within the entry is u n - j (exactly for those; to rounding otherwise)."""
+    a = _listed_scene(n - 2) if n >= 2 else lights.relisted(_listed_scene(0), [1])
+    first = a.light_ranges[LISTED, 0]
+    u = np.random.default_rng(n).random(200_000)
+    u = np.concatenate([u, (np.arange(4 * n + 1) / (4 * n)) * (1 - 1e-16), [0.0]])
+    got = _listed_picks(a, u)
+    j = np.minimum((u * n).astype(np.int64), n - 1)
+    np.testing.assert_array_equal(got[:, 0] - first, j)
+    books = np.minimum(u * n - j, 1.0)
+    if n in (1, 2, 4):
+        np.testing.assert_array_equal(got[:, 1], books)
+    else:
+        np.testing.assert_allclose(got[:, 1], books, rtol=0, atol=1e-14)
+    assert (got[:, 1] >= 0).all() and (got[:, 1] <= 1).all()
 
 
 @njit
@@ -96,6 +164,20 @@ def _points(a, row, count, seed):
             pts[i, c], nrm[i, c], out[i, c] = p[c], n[c], o[c]
         pdf[i] = d
     return pts, nrm, pdf, out
+
+
+# Each light's area in closed form (the table's AREA, which the kernels' densities
+# divide by, comes from the kind's light_parts alone).
+AREAS = {"xz rect": 3 * 1.5, "turned yz rect": 2.0,
+         "quad": float(np.linalg.norm(np.cross((2, 0.5, 0), (0, 0, 1.5)))),
+         "flipped xy rect": 1.0, "sphere": 4 * math.pi * 0.49,
+         "hollow sphere": 4 * math.pi * 1.69, "box": 2 * (2 + 3 + 6)}
+
+
+@pytest.mark.parametrize("name", LIGHTS)
+def test_the_tables_area_is_the_lights_area(name):
+    a = _arrays(LIGHTS[name]())
+    assert math.isclose(a.light_f[:, LIGHT_AREA].sum(), AREAS[name], rel_tol=1e-12)
 
 
 @pytest.mark.parametrize("name", LIGHTS)

@@ -11,6 +11,7 @@ from numba import njit
 import rtweekend as rt
 from rtweekend.path import manifold
 from rtweekend.path.layout import NO_HIT
+from rtweekend.path.lights import emitters
 from rtweekend.path.pack import pack_scene
 
 from stats import block_z
@@ -67,7 +68,7 @@ def _scene(*shapes):
     for s in shapes:
         scene.add(s)
     a = pack_scene(scene)
-    return a, np.int64(a.emitters[0])
+    return a, np.int64(emitters(a)[0])
 
 
 def test_into_a_ball_and_through_one():

@@ -8,6 +8,7 @@ from numba import njit
 
 import rtweekend as rt
 from rtweekend.path import mesh_light
+from rtweekend.path.lights import listed
 from rtweekend.path.pack import pack_scene
 
 from rays import light_densities, light_directions, uniform_directions
@@ -47,7 +48,7 @@ def _picks(cdf, start, count, u):
 def test_a_mesh_lights_triangles_are_picked_by_area():
     a = pack_scene(_octahedron_scene())
     ((first, count, start),) = a.tris.groups
-    assert a.lights.tolist() == [first] and count == 8
+    assert listed(a).tolist() == [first] and count == 8
     area = a.obj_f[first:first + count, 12]
     assert a.tris.group_area[0] == pytest.approx(area.sum())
     u = np.random.default_rng(2).random(400_000)
@@ -62,7 +63,7 @@ def test_a_mesh_lights_density_integrates_to_one_and_matches_its_samples():
     # From a point outside the closed octahedron most directions that meet it
     # meet it twice (near side and far side): the density counts both.
     a = pack_scene(_octahedron_scene())
-    k = int(a.lights[0])
+    k = int(listed(a)[0])
     p = (0.3, 0.2, -0.4)
     v = light_densities(a, k, p, uniform_directions(400_000, 7)) * 4 * math.pi
     assert abs(v.mean() - 1.0) < 5 * v.std() / math.sqrt(len(v)), v.mean()
@@ -115,8 +116,8 @@ def test_the_density_walks_the_hierarchy_as_the_flat_loop_does():
     scene.add(rt.mesh((v, f), rt.diffuse_light((4, 4, 4))), light=True)
     tree, flat = pack_scene(scene, bvh=True), pack_scene(scene, bvh=False)
     assert tree.wide is not None and flat.wide is None
-    k = int(tree.lights[0])
-    assert k == int(flat.lights[0])
+    k = int(listed(tree)[0])
+    assert k == int(listed(flat)[0])
     dirs = uniform_directions(200_000, 7)
     for p in [(0.1, 0.2, -0.4), (0.0, 2.0, 0.0), (2.5, 2.5, 2.5)]:
         a, b = light_densities(tree, k, p, dirs), light_densities(flat, k, p, dirs)

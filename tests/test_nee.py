@@ -15,6 +15,7 @@ from rtweekend.options import RenderOptions
 from rtweekend.path import materials, nee
 from rtweekend.path.layout import NO_HIT, OBJ_MAT, XZ_RECT
 from rtweekend.path.renderer import freeze
+from rtweekend.path.lights import emitters, listed
 from rtweekend.path.shapes import axis_rect
 from rtweekend.path.surface import NO_PRIM, Surface
 
@@ -55,11 +56,11 @@ def test_mis_weights_of_one_direction_sum_to_one(name):
     books = freeze(rt.load_scene(name), RenderOptions("path", sampling="mixture"))
     # The books' lights list keeps the light; nee's keeps only what does not emit.
     assert books.features.events is None
-    assert list(books.scene.lights) == sorted([*frame.scene.lights, *frame.scene.emitters])
+    assert list(listed(books.scene)) == sorted([*listed(frame.scene), *emitters(frame.scene)])
     scene, params = frame.scene, frame.params
-    assert frame.features.events == 1 and len(scene.emitters) == 1
+    assert frame.features.events == 1 and len(emitters(scene)) == 1
     # The light is no target of the mixture any more; cornell_glass keeps its ball.
-    assert len(scene.lights) == (1 if name == "cornell_glass" else 0)
+    assert len(listed(scene)) == (1 if name == "cornell_glass" else 0)
     assert params.light_weight == (0.5 if name == "cornell_glass" else 0.0)
     floor = [k for k in range(len(scene.obj_i)) if scene.obj_i[k, 0] == XZ_RECT
              and scene.obj_f[k, axis_rect.K] == 0.0][0]      # the xz rect at y = 0

@@ -5,6 +5,7 @@ import pytest
 import rtweekend as rt
 from rtweekend.path.camera import pack_camera
 from rtweekend.path.layout import BG_SKY, SPHERE, XZ_RECT
+from rtweekend.path.lights import listed
 from rtweekend.path.pack import pack_scene
 
 
@@ -47,7 +48,7 @@ def test_toml_and_builder_give_the_same_arrays():
     assert (from_file.spp, from_file.max_depth) == (built.spp, built.max_depth)
     # lights: the flipped light rect and the glass sphere, in both
     for arr in (a, b):
-        kinds = arr.obj_i[arr.lights, 0]
+        kinds = arr.obj_i[listed(arr), 0]
         assert sorted(kinds) == [SPHERE, XZ_RECT]
 
 
@@ -60,7 +61,7 @@ def test_toml_and_builder_give_the_same_arrays():
 def test_bundled_scenes(name, objects, lights, size):
     scene = rt.load_scene(name)
     a = pack_scene(scene)
-    assert len(a.obj_i) == objects and len(a.lights) == lights
+    assert len(a.obj_i) == objects and len(listed(a)) == lights
     assert (scene.camera.width, scene.camera.height) == size
     assert scene.description
     assert name in rt.bundled_scenes()

@@ -43,9 +43,14 @@ NO_HIT = -1
 
 # -- columns -----------------------------------------------------------------------
 
-# light_rows (lights.py): the object and its part (a box's face; -1: the whole)
+# light_rows (lights.py): the object, its part (a box's face; -1: the whole), its role
 LIGHT_OBJ = 0
 LIGHT_PART = 1
+LIGHT_ROLE = 2
+# the roles, also the rows of light_ranges: an emitting primitive picked by
+# power, an entry of the books' lights list picked uniformly
+EMITTED = 0
+LISTED = 1
 # light_f (lights.py)
 LIGHT_AREA = 0
 LIGHT_POWER = 1
@@ -71,11 +76,11 @@ class SceneArrays(NamedTuple):
     obj_f: np.ndarray      # float64 [N, OBJ_FLOATS]
     mat_i: np.ndarray      # int64 [M]: kind
     mat_f: np.ndarray      # float64 [M, MAT_FLOATS]: colour, parameters
-    lights: np.ndarray     # int64 [L]: object indices the light pdf samples
     dark_sides: np.ndarray  # float64 [D, 4]: where the lights give nothing (pack.py)
-    emitters: np.ndarray   # int64 [E]: objects whose material emits (next-event targets)
-    light_rows: np.ndarray  # int64 [L, 2]: one per emissive primitive (lights.py)
-    light_f: np.ndarray    # float64 [L, 4]: its area, power, probability, cumulative
+    # The light table (lights.py): emitting primitives, then the lights list
+    light_rows: np.ndarray  # int64 [L, 3]: object, part, role
+    light_f: np.ndarray    # float64 [L, 4]: area, power, probability, cumulative
+    light_ranges: np.ndarray  # int64 [2, 2]: each role's rows [first, end)
     light_pick: np.ndarray  # float64 [N]: how often next events pick each object
     bg_kind: int           # BG_COLOR or BG_SKY
     bg: np.ndarray         # float64 [3]: the background's radiance (BG_COLOR)

@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from ..kernel.jit import jit_step, like
-from . import wide_bvh
+from . import lights, wide_bvh
 from .shapes import triangle
 
 NAN = math.nan
@@ -47,7 +47,7 @@ def objects(arrays):
     """int64: the objects the lights list covers, each mesh's triangles all."""
     out = []
     groups = arrays.tris.groups if arrays.tris is not None else np.zeros((0, 3), np.int64)
-    for k in arrays.lights:
+    for k in lights.listed(arrays):
         g = np.flatnonzero(groups[:, 0] == k)
         out.append(np.arange(k, k + groups[g[0], 1]) if len(g) else np.array([k]))
     return np.concatenate(out).astype(np.int64) if out else np.zeros(0, dtype=np.int64)

@@ -27,7 +27,7 @@ from ..kernel.stack import stack_array
 from ..kernel.vec3 import dot, scale, sub
 from . import lights, manifold, materials, shapes
 from . import textures as texturing
-from .layout import LIGHT_PROB, NO_HIT, OBJ_MAT
+from .layout import EMITTED, LIGHT_PROB, NO_HIT, OBJ_MAT
 # Imported by name, so that stack_array sees literals when compiling.
 from .manifold import MAX_CHAIN, RHS_FLOATS, SYSTEM_FLOATS, VERT_FLOATS
 
@@ -73,7 +73,7 @@ def connect(scene, p, k, bsdf, wo, beta, xi, time, textures):
     counts them: film.CONNECTIONS, UNSOLVED).  Called, not inlined: one copy,
     with its own searches."""
     u, u1, u2 = xi
-    row = lights.pick(scene, u)
+    row = lights.pick(scene, EMITTED, u)
     e, y, n_y, pdf_area = lights.sample_point(scene, row, u1, u2, time)
     verts = stack_array(VERT_FLOATS, np.float64).reshape((K, 3))
     objs = stack_array(K, np.int64)

@@ -18,7 +18,7 @@ from .layout import (BG_COLOR, BG_SKY, BOX, MAT_FLOATS, N_PARAMS,
                      SPHERE, TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT, SceneArrays, Triangles,
                      WideBVH)
 from .shapes import axis_rect, box, rect, sphere, triangle
-from .lights import pack_lights
+from .lights import listed, pack_lights
 from .textures import pack_textures
 
 
@@ -187,11 +187,10 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
         tree = (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), tree[2])
     else:
         tree = hierarchy.empty_bvh(len(obj_i), ids)
-    emitters = np.flatnonzero(objects_with(obj_i, mat_i, EMITS)).astype(np.int64)
     mat_f = mat_f.reshape(-1, MAT_FLOATS)
     mesh_lights = [(first[id(s)], s.primitives) for s in scene.lights if s.kind == "mesh"]
-    return SceneArrays(obj_i, obj_f, mat_i, mat_f, lights, np.zeros((0, 4)), emitters,
-                       *pack_lights(obj_i, obj_f, mat_i, mat_f), bg_kind, bg, *tree,
+    return SceneArrays(obj_i, obj_f, mat_i, mat_f, np.zeros((0, 4)),
+                       *pack_lights(obj_i, obj_f, mat_i, mat_f, lights), bg_kind, bg, *tree,
                        tris.arrays(obj_f, mesh_lights), wide,
                        True if (KIND_FLAGS[mat_i] & GLOSSY).any() else None)
 
@@ -271,7 +270,7 @@ def dark_sides(arrays):
     from any: a strategy with Sampling.facing does not sample the lights there
     (pdf.mixture_weight).  Attractors (lights that do not emit) do not count."""
     sides = []
-    for k in arrays.lights:
+    for k in listed(arrays):
         if not KIND_FLAGS[arrays.mat_i[arrays.obj_i[k, OBJ_MAT]]] & EMITS:
             continue
         kind, row = arrays.obj_i[k, 0], arrays.obj_f[k]

@@ -11,7 +11,8 @@ books' lambertian, their cosine_pdf.
 """
 from ..kernel import sampler
 from ..kernel.jit import jit_step
-from . import materials, mesh_light, shapes
+from . import lights, materials, mesh_light, shapes
+from .layout import LIGHT_OBJ, LIGHT_PROB, LISTED
 
 
 @jit_step
@@ -63,32 +64,33 @@ def mixture_weight(scene, bsdf, p, light_weight):
     return light_weight
 
 
-# -- all lights, one chosen uniformly (the books' hittable_list pdf) --------------
+# -- the lights list, one entry chosen uniformly (the books' hittable_list pdf) ----
 
 @jit_step
 def lights_generate(scene, p, from_obj, smp, time):
     """A unit direction from p (a point of object from_obj, or NO_HIT) towards
-    one light chosen uniformly: one number of the stream picks it, the
-    sampler's next 2-D point places the direction."""
-    lights = scene.lights
+    one entry of the lights list (lights.py: the table's LISTED rows): one
+    number of the stream picks it, the sampler's next 2-D point places the
+    direction."""
     u, smp = sampler.uniform(smp)
-    k = lights[min(int(u * lights.shape[0]), lights.shape[0] - 1)]
+    k = scene.light_rows[lights.pick(scene, LISTED, u), LIGHT_OBJ]
     u1, u2, smp = sampler.next_2d(smp)
     return toward_light(scene, k, p, from_obj, u1, u2, time), smp
 
 
 @jit_step
 def lights_value(scene, p, d, from_obj, from_inside, time):
-    """Solid-angle density at p of direction d under lights_generate.
+    """Solid-angle density at p of direction d under lights_generate: each
+    entry's density, weighed by how often it is picked.
 
     Each light's term is 0 when d misses it, so the mixture never divides by a
     density that a component could not have produced.
     """
-    lights = scene.lights
     total = 0.0
-    for j in range(lights.shape[0]):
-        total += density_toward(scene, lights[j], p, d, from_obj, from_inside, time)
-    return total / lights.shape[0]
+    for row in range(scene.light_ranges[LISTED, 0], scene.light_ranges[LISTED, 1]):
+        total += scene.light_f[row, LIGHT_PROB] * density_toward(
+            scene, scene.light_rows[row, LIGHT_OBJ], p, d, from_obj, from_inside, time)
+    return total
 
 
 # -- the mixture at a smooth hit (The Rest of Your Life, chapter "Mixing") ---------
@@ -105,21 +107,19 @@ def mixture_sample(scene, bsdf, wo, p, from_obj, light_weight, use_lights, smp, 
     pick it, then a 2-D point for its direction; the material: a 2-D point).
     When the sampler has a low-discrepancy point left, or without lights, one
     2-D point (u1, u2) decides everything: u1 < w picks a light, by
-    t = u1 / w among the n of the list, and (t n - the light's index, u2) is
-    the light's point; otherwise ((u1 - w) / (1 - w), u2) is the material's.
-    Each component's share of the unit square is stretched back to the whole,
-    so that a stratified point stays stratified over the lobe and over each
-    light's surface."""
-    lights = scene.lights
-    n = lights.shape[0]
-    j, v1, v2 = 0, 0.0, 0.0
+    t = u1 / w (lights.pick), and (t stretched back within the light's share,
+    u2) is the light's point; otherwise ((u1 - w) / (1 - w), u2) is the
+    material's.  Each component's share of the unit square is stretched back
+    to the whole, so that a stratified point stays stratified over the lobe
+    and over each light's surface."""
+    row, v1, v2 = 0, 0.0, 0.0
     if sampler.low_discrepancy(smp) or not use_lights:
         u1, u2, smp = sampler.next_2d(smp)
         light = u1 < light_weight
         if light:
-            t = u1 / light_weight * n
-            j = min(int(t), n - 1)
-            v1, v2 = min(t - j, 1.0), u2
+            t = u1 / light_weight
+            row = lights.pick(scene, LISTED, t)
+            v1, v2 = lights.stretched(scene, LISTED, row, t), u2
         else:
             v1, v2 = (u1 - light_weight) / (1.0 - light_weight), u2
     else:
@@ -127,13 +127,14 @@ def mixture_sample(scene, bsdf, wo, p, from_obj, light_weight, use_lights, smp, 
         light = u < light_weight
         if light:
             pick, smp = sampler.uniform(smp)
-            j = min(int(pick * n), n - 1)
+            row = lights.pick(scene, LISTED, pick)
             v1, v2, smp = sampler.next_2d(smp)          # past the Sobol pairs: the stream
         else:
             v1, smp = sampler.uniform(smp)
             v2, smp = sampler.uniform(smp)
     if light:
-        return toward_light(scene, lights[j], p, from_obj, v1, v2, time), materials.NO_COLOR, smp
+        k = scene.light_rows[row, LIGHT_OBJ]
+        return toward_light(scene, k, p, from_obj, v1, v2, time), materials.NO_COLOR, smp
     wi, weight, _, smp = materials.sample_at(bsdf, wo, v1, v2, smp)
     return wi, weight, smp
 

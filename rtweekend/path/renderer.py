@@ -30,6 +30,7 @@ from ..scene.scene import Scene
 from . import film as films
 from . import seen_light
 from .camera import pack_camera
+from .lights import listed
 from .film import BLOCK_SPP, CONNECTIONS, DROPPED, SEGMENTS, UNSOLVED
 from .integrators import ESTIMATORS, needs_of
 from .layout import Features, PathParams, SceneArrays
@@ -70,7 +71,7 @@ def freeze(scene, options, stand_in=False):
     max_depth = scene.resolved_max_depth() if options.max_depth is None else options.max_depth
     params = PathParams(cam=pack_camera(camera), width=camera.width, height=camera.height,
                         seed=options.seed, max_depth=max_depth,
-                        light_weight=strategy.light_weight if len(arrays.lights) else 0.0,
+                        light_weight=strategy.light_weight if len(listed(arrays)) else 0.0,
                         clamp=options.clamp_value, pairs=strategy.sobol_pairs)
     features = Features(None, *pack_features(scene, arrays))._replace(
         **needs.features(strategy, scene, arrays))

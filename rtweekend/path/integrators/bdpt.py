@@ -41,7 +41,7 @@ from .. import camera, lights, materials, media as volumes, shapes
 from .. import film as films
 from ..bvh import unoccluded
 from ..film import CONNECTIONS, SEGMENTS, UNSOLVED
-from ..layout import NO_HIT
+from ..layout import EMITTED, NO_HIT
 from ..lights import background
 from ..materials import EMITS
 from . import caustics as caustic_paths
@@ -277,7 +277,7 @@ def camera_strategies(scene, params, camera_path, light_path, nc, nl, textures, 
     cf, ci = camera_path
     lf, li = light_path
     radiance, seen, rays = ZERO, ZERO, 0
-    has_lights = scene.light_f.shape[0] > 0
+    has_lights = lights.count(scene, EMITTED) > 0
     for t in range(2, nc + 1):
         pt = t - 1
         if ci[pt, TYPE] == SURFACE and materials.has(ci[pt, MKIND], EMITS):
@@ -314,7 +314,7 @@ def render_row(y, film, scene, params, s0, s1, textures, media, motion, glass, c
     segments = 0
     width = params.width
     want = film.albedo.shape[0] > 0        # feature images: a run-time test, no variant
-    has_lights = scene.light_f.shape[0] > 0
+    has_lights = lights.count(scene, EMITTED) > 0
     for x in range(width):
         pixel = y * width + x
         for s in range(s0, s1):

@@ -50,7 +50,7 @@ from .sampling import Sampling
 def _check(sampling, arrays):
     """Light tracing starts every path on an emitter: a scene must have one, and
     no light may come from the background, which such paths never leave from."""
-    if len(arrays.light_rows) == 0:
+    if len(lights.emitters(arrays)) == 0:
         raise SceneError(f"render: sampling: {sampling} starts its paths on the scene's "
                          "emitters (diffuse_light), and this scene has none")
     if arrays.bg_kind != BG_COLOR or arrays.bg.any():

@@ -26,6 +26,8 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
+from .. import lights
+
 
 def _nothing_to_check(sampling, arrays):
     pass
@@ -71,4 +73,4 @@ def emitters_left_out(arrays):
     """The packed scene with the emitters left out of its lights list: for a
     strategy whose shadow rays (or photons) reach the emitters, the mixture
     draws towards the list's other objects only (attractors, e.g. a glass ball)."""
-    return arrays._replace(lights=np.setdiff1d(arrays.lights, arrays.emitters))
+    return lights.relisted(arrays, np.setdiff1d(lights.listed(arrays), lights.emitters(arrays)))

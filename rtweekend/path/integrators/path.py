@@ -38,13 +38,13 @@ from ...kernel.ref import by_ref
 from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
-from .. import materials, media as volumes, mnee, nee, pdf, shapes
+from .. import lights, materials, media as volumes, mnee, nee, pdf, shapes
 from .needs import Needs, emitters_left_out
 from .sampling import Sampling
 from ..bvh import closest_hit
 from ..camera import sample_ray
 from ..film import CONNECTIONS, SEGMENTS, UNSOLVED
-from ..layout import NO_HIT
+from ..layout import LISTED, NO_HIT
 from ..roulette import roulette
 from ..lights import background
 from ..surface import color_of, surface_at
@@ -70,7 +70,7 @@ def _features(strategy, scene, arrays):
 
 
 def _next_events(strategy, arrays):
-    return strategy.next_event and len(arrays.emitters) > 0
+    return strategy.next_event and len(lights.emitters(arrays)) > 0
 
 
 NEEDS = Needs(splats=False, lights=_lights, features=_features)   # samples only (film.py)
@@ -215,7 +215,7 @@ def trace(scene, params, ray, time, smp, events, textures, media, manifold, film
     the last smooth vertex, whose emitter they render instead)."""
     o, d = ray
     looking = film.albedo.shape[0] > 0
-    use_lights = scene.lights.shape[0] > 0 and params.light_weight > 0.0
+    use_lights = lights.count(scene, LISTED) > 0 and params.light_weight > 0.0
     radiance, seen, beta = ZERO, ZERO, ONE
     # np.int64 / np.bool_: typed as plain int64 and bool from the start, not as
     # the literals -1 and False, or Numba compiles the helpers called apart

@@ -13,12 +13,14 @@ for the row k of obj_f it packed:
                                        sphere is told whether p is on it)
   pdf_toward(obj_f, k, p, d, from_self, from_inside)   that direction's density
   sample_area(obj_f, k, [part,] u1, u2)  a point uniform over its surface (a box's
-                                       faces one at a time), its normal, 1 / area
+                                       faces one at a time) and its normal
   uv(obj_f, k, p)                      texture coordinates of a point on it
   interval(obj_f, k, o, d)             where a line is inside it (closed kinds:
                                        a constant medium's boundary)
   bounds(row), pack(..., row)          NumPy, for the BVH and pack.py
-  light_parts(row)                     NumPy: [(part, area)], its rows as a light
+  light_parts(row)                     NumPy: [(part, area)], its rows as a light:
+                                       the one place its area as a light is
+                                       computed (lights.py keeps it in the table)
 
 Spheres can move (motion blur): their functions also take the ray's time,
 which is None in a kernel for a scene where nothing moves (sphere.py).  A
@@ -203,9 +205,9 @@ def pdf_toward(scene, k, p, d, from_obj, from_inside, time):
 
 @jit_step
 def sample_area(scene, k, part, u1, u2, time):
-    """(point, outward normal, area density) of a point uniform over object k
-    (a box: over its face `part`; the others have one part) for the unit
-    square's point (u1, u2)."""
+    """(point, outward normal) of a point uniform over object k (a box: over its
+    face `part`; the others have one part) for the unit square's point (u1,
+    u2): dense by 1 / the area light_parts gives (the light table's AREA)."""
     kind = scene.obj_i[k, OBJ_KIND]
     f = scene.obj_f
     if kind == XZ_RECT:
@@ -222,7 +224,7 @@ def sample_area(scene, k, part, u1, u2, time):
         return rect.sample_area(f, k, u1, u2)
     if kind == TRIANGLE:
         return triangle.sample_area(scene.tris, f, k, u1, u2)
-    return (NAN, NAN, NAN), (NAN, NAN, NAN), NAN
+    return (NAN, NAN, NAN), (NAN, NAN, NAN)
 
 
 @jit_step

@@ -115,17 +115,16 @@ def sample_toward(obj_f, k, p, u1, u2, a, b, n):
 
 @jit_step
 def sample_area(obj_f, k, u1, u2, a, b, n):
-    """(point, outward normal, 1 / area): a point uniform over the rect."""
+    """(point, outward normal): a point uniform over the rect."""
     x = obj_f[k, A0] + u1 * (obj_f[k, A1] - obj_f[k, A0])
     y = obj_f[k, B0] + u2 * (obj_f[k, B1] - obj_f[k, B0])
     z = obj_f[k, K]
-    inv_area = 1.0 / obj_f[k, AREA]
     normal = outward_normal(obj_f, k, (x, y, z), n)
     if n == 2:
-        return (x, y, z), normal, inv_area
+        return (x, y, z), normal
     if n == 1:
-        return (x, z, y), normal, inv_area
-    return (z, x, y), normal, inv_area
+        return (x, z, y), normal
+    return (z, x, y), normal
 
 
 @jit_step

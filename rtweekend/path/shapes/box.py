@@ -274,9 +274,9 @@ def _face_coordinate(obj_f, k, a, axis, high, u1, u2):
 
 @jit_step
 def sample_area(obj_f, k, face, u1, u2):
-    """(point, outward normal, 1 / the face's area): a point uniform over face
-    number `face` (2 x its normal's axis, + 1 for the high side), for the light
-    layer's one row per face."""
+    """(point, outward normal): a point uniform over face number `face` (2 x its
+    normal's axis, + 1 for the high side), for the light layer's one row per
+    face."""
     axis, high = face // 2, face % 2 == 1
     w = _world_direction(obj_f, k, (_face_coordinate(obj_f, k, 0, axis, high, u1, u2),
                                     _face_coordinate(obj_f, k, 1, axis, high, u1, u2),
@@ -287,7 +287,7 @@ def sample_area(obj_f, k, face, u1, u2):
         sign = -sign
     n = _world_direction(obj_f, k, (sign if axis == 0 else 0.0, sign if axis == 1 else 0.0,
                                     sign if axis == 2 else 0.0))
-    return p, n, 1.0 / _face_area(obj_f, k, axis)
+    return p, n
 
 
 @jit_step

@@ -139,11 +139,11 @@ def sample_toward(obj_f, k, p, u1, u2):
 
 @jit_step
 def sample_area(obj_f, k, u1, u2):
-    """(point, outward normal, 1 / area): a point uniform over the rect."""
+    """(point, outward normal): a point uniform over the rect."""
     p = (obj_f[k, Q] + u1 * obj_f[k, U] + u2 * obj_f[k, V],
          obj_f[k, Q + 1] + u1 * obj_f[k, U + 1] + u2 * obj_f[k, V + 1],
          obj_f[k, Q + 2] + u1 * obj_f[k, U + 2] + u2 * obj_f[k, V + 2])
-    return p, (obj_f[k, N], obj_f[k, N + 1], obj_f[k, N + 2]), 1.0 / obj_f[k, AREA]
+    return p, (obj_f[k, N], obj_f[k, N + 1], obj_f[k, N + 2])
 
 
 @jit_step

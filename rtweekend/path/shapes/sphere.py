@@ -50,7 +50,7 @@ def bounds(row):
 
 def light_parts(row):
     """[(part, area)] of the sphere as a light (lights.pack_lights): one part
-    (NumPy; sample_area's density is 1 / this area)."""
+    (NumPy; a point sample_area draws is dense by 1 / this area)."""
     return [(-1, 4.0 * math.pi * row[RADIUS2])]
 
 
@@ -165,8 +165,8 @@ def sample_toward(obj_f, k, p, from_self, u1, u2, time):
 
 @jit_step
 def sample_area(obj_f, k, u1, u2, time):
-    """(point, outward normal, 1 / area): a point uniform over the sphere's
-    surface, for the unit square's point (u1, u2)."""
+    """(point, outward normal): a point uniform over the sphere's surface, for
+    the unit square's point (u1, u2)."""
     z = 1.0 - 2.0 * u1
     s = math.sqrt(max(0.0, 1.0 - z * z))
     phi = rng.TWO_PI * u2
@@ -176,7 +176,7 @@ def sample_area(obj_f, k, u1, u2, time):
     # p = c + |r| w; the outward normal (p - c) / r turns inward for r < 0.
     p = (c[0] + abs(r) * w[0], c[1] + abs(r) * w[1], c[2] + abs(r) * w[2])
     n = w if r > 0.0 else (-w[0], -w[1], -w[2])
-    return p, n, 1.0 / (2.0 * rng.TWO_PI * obj_f[k, RADIUS2])
+    return p, n
 
 
 @jit_step

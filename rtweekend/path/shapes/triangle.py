@@ -271,10 +271,10 @@ def point(obj_f, k, u1, u2):
 
 @jit_step
 def sample_area(tris, obj_f, k, u1, u2):
-    """(point, outward normal, 1 / area): a point uniform over the triangle."""
+    """(point, outward normal): a point uniform over the triangle."""
     if tris is None:
-        return (NAN, NAN, NAN), (NAN, NAN, NAN), NAN
-    return point(obj_f, k, u1, u2), _vertex(obj_f, k, N), 1.0 / obj_f[k, AREA]
+        return (NAN, NAN, NAN), (NAN, NAN, NAN)
+    return point(obj_f, k, u1, u2), _vertex(obj_f, k, N)
 
 
 @jit_step
