@@ -90,8 +90,7 @@ def _with_listed(rows, light_f, listed):
     listed_rows = np.column_stack([np.asarray(listed, dtype=np.int64), np.full(n, -1),
                                    np.full(n, LISTED)]).astype(np.int64).reshape(-1, 3)
     listed_f = np.zeros((n, 4))
-    # Uniform: (j + 1) / n each, not a running sum, so that pick agrees with
-    # the books' int(u n) at the entries' boundaries too.
+    # Uniform (pick draws it as int(u n), without these; they say the same).
     listed_f[:, LIGHT_PROB] = 1.0 / max(n, 1)
     listed_f[:, LIGHT_CDF] = np.arange(1, n + 1) / max(n, 1)
     ranges = np.array([[0, e], [e, e + n]], dtype=np.int64)
@@ -129,9 +128,15 @@ def count(scene, role):
 @jit_step
 def pick(scene, role, u):
     """The row of `role` chosen by u in [0, 1): the first whose cumulative
-    probability exceeds u (a binary search over the role's rows)."""
-    light_f = scene.light_f
+    probability exceeds u.  The lights list is uniform: its entry is the
+    books' int(u n), computed so (no search, no branch to mispredict; role is
+    a constant, so each caller compiles one way); the emitters by a binary
+    search over their CDF."""
     lo, hi = scene.light_ranges[role, 0], scene.light_ranges[role, 1] - 1
+    if role == LISTED:
+        n = hi - lo + 1
+        return lo + min(int(u * n), n - 1)
+    light_f = scene.light_f
     while lo < hi:
         mid = (lo + hi) // 2
         if u < light_f[mid, LIGHT_CDF]:
@@ -144,9 +149,13 @@ def pick(scene, role, u):
 @jit_step
 def stretched(scene, role, row, u):
     """u, which picked `row` of `role`, stretched back to [0, 1] within the
-    row's share: a stratified u stays stratified over what the row samples."""
+    row's share: a stratified u stays stratified over what the row samples
+    (the lights list: u n - its entry, as pick computes it)."""
+    first = scene.light_ranges[role, 0]
+    if role == LISTED:
+        return min(u * count(scene, role) - (row - first), 1.0)
     light_f = scene.light_f
-    below = light_f[row - 1, LIGHT_CDF] if row > scene.light_ranges[role, 0] else 0.0
+    below = light_f[row - 1, LIGHT_CDF] if row > first else 0.0
     return min((u - below) / light_f[row, LIGHT_PROB], 1.0)
 
 

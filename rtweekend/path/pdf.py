@@ -12,7 +12,7 @@ books' lambertian, their cosine_pdf.
 from ..kernel import sampler
 from ..kernel.jit import jit_step
 from . import lights, materials, mesh_light, shapes
-from .layout import LIGHT_OBJ, LIGHT_PROB, LISTED
+from .layout import LIGHT_OBJ, LISTED
 
 
 @jit_step
@@ -80,17 +80,18 @@ def lights_generate(scene, p, from_obj, smp, time):
 
 @jit_step
 def lights_value(scene, p, d, from_obj, from_inside, time):
-    """Solid-angle density at p of direction d under lights_generate: each
-    entry's density, weighed by how often it is picked.
+    """Solid-angle density at p of direction d under lights_generate: the mean
+    of the entries' densities (the list is picked uniformly).
 
     Each light's term is 0 when d misses it, so the mixture never divides by a
     density that a component could not have produced.
     """
+    first, end = scene.light_ranges[LISTED, 0], scene.light_ranges[LISTED, 1]
     total = 0.0
-    for row in range(scene.light_ranges[LISTED, 0], scene.light_ranges[LISTED, 1]):
-        total += scene.light_f[row, LIGHT_PROB] * density_toward(
-            scene, scene.light_rows[row, LIGHT_OBJ], p, d, from_obj, from_inside, time)
-    return total
+    for row in range(first, end):
+        total += density_toward(scene, scene.light_rows[row, LIGHT_OBJ], p, d, from_obj,
+                                from_inside, time)
+    return total / (end - first)
 
 
 # -- the mixture at a smooth hit (The Rest of Your Life, chapter "Mixing") ---------
