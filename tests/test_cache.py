@@ -209,6 +209,18 @@ def test_every_step_is_inlined_into_the_kernel(compiled_then_loaded):
     assert steps_called == 0
 
 
+def test_the_pixel_loop_is_kept_only_inside_the_kernels(compiled_then_loaded):
+    # integrators/pixels.py's loop takes the estimator's sample function, so an
+    # entry of its own could not be keyed by that function's sources: it is
+    # compiled into each kernel and never saved alone (the kernels are, and
+    # the second run loaded them: the test above).
+    cache, _ = compiled_then_loaded
+    names = [p.name for p in cache.rglob("*") if p.is_file()]
+    assert any(n.startswith("pixels.shutter") for n in names)     # a plain step: kept
+    assert any(n.startswith("path.render_pass") for n in names)
+    assert not any(n.startswith("pixels.render_row") for n in names)
+
+
 def test_a_step_called_from_python_runs_through_a_compiled_entry():
     from rtweekend.kernel.vec3 import dot
     from rtweekend.path.materials.lambertian import cosine_pdf

@@ -235,6 +235,8 @@ class PackageCache(caching.FunctionCache):
     _impl_class = impl_class(caching.CompileResultCacheImpl)
 
     def load_overload(self, sig, target_context):
+        if takes_a_function(sig):
+            return None
         since = time.perf_counter()
         with locked():
             try:
@@ -246,10 +248,23 @@ class PackageCache(caching.FunctionCache):
         return found
 
     def save_overload(self, sig, data):
+        if takes_a_function(sig):
+            return
         since = time.perf_counter()
         with locked():
             super().save_overload(sig, data)
         compile_clock.add_since(since)
+
+
+def takes_a_function(sig):
+    """Is one of sig's arguments a compiled function (integrators/pixels.py's
+    loop takes the estimator's sample)?  Such a compile is not kept on its own:
+    the key of its entry could not name the function's sources (its module is
+    not among the loop's imports), so an entry would be found by no later
+    process, or, keyed by the function's name, found stale after an edit.
+    The kernel that calls it is kept whole, as any kernel is."""
+    args = sig.args if hasattr(sig, "args") else sig
+    return any(isinstance(t, numba.core.types.Dispatcher) for t in args)
 
 
 def stale_files():

@@ -40,12 +40,12 @@ from ...kernel.vec3 import add, at_most, dot, mul, neg, scale
 from .. import camera, lights, materials, media as volumes, shapes
 from .. import film as films
 from ..bvh import unoccluded
-from ..film import CONNECTIONS, SEGMENTS, UNSOLVED
+from ..film import CONNECTIONS, UNSOLVED
 from ..layout import EMITTED, NO_HIT
 from ..lights import background
 from ..materials import EMITS
 from . import caustics as caustic_paths
-from . import mis, photons, through_glass
+from . import mis, photons, pixels, through_glass
 from .needs import Needs
 from .sampling import Sampling
 from .subpaths import camera_subpath, light_subpath
@@ -301,63 +301,47 @@ def camera_strategies(scene, params, camera_path, light_path, nc, nl, textures, 
 
 
 @jit_step
-def render_row(y, film, scene, params, s0, s1, textures, media, motion, glass, camera_path,
-               light_path):
-    """Samples s0..s1-1 of every pixel of row y: the camera's part to the pixel,
-    light tracing's splatted; with caustic maps (photons.py) or manifold
-    connections (through_glass.py) -- glass: the kernel's caustics and
-    manifold --, what they give where the camera sees a smooth surface through
-    glass or in a mirror (caustics.py).  camera_path, light_path: the
-    subpaths' vertex arrays, (floats, ints) each."""
+def bdpt_sample(film, scene, params, y, x, s, smp, state):
+    """One sample of pixel (x, y) (pixels.render_row): the camera's part to the
+    pixel, light tracing's splatted; with caustic maps (photons.py) or
+    manifold connections (through_glass.py) -- glass: the kernel's caustics
+    and manifold --, what they give where the camera sees a smooth surface
+    through glass or in a mirror (caustics.py).  state: the kernel's features
+    and the subpaths' vertex arrays, (floats, ints) each."""
+    textures, media, motion, glass, camera_path, light_path = state
     cf, ci = camera_path
     lf, li = light_path
-    segments = 0
-    width = params.width
-    want = film.albedo.shape[0] > 0        # feature images: a run-time test, no variant
-    has_lights = lights.count(scene, EMITTED) > 0
-    for x in range(width):
-        pixel = y * width + x
-        for s in range(s0, s1):
-            smp = sampler.start(pixel, s, params.seed, params.pairs)
-            if motion is not None:
-                time, smp = sampler.uniform(smp)    # one time for both subpaths
-            else:
-                time = None
-            nc, escaped, d, beta, n, smp = camera_subpath(scene, params, cf, ci, x, y,
-                                                          textures, media, time, smp)
-            segments += n
-            mis.accumulate(cf, ci, 1, nc)
-            radiance = mul(beta, background(scene, d)) if escaped else ZERO
-            if params.only_s >= 0:          # the sky: strategy (0, nc + 1) alone
-                radiance = scale(radiance, alone(params, 0, nc + 1))
-            if want:
-                albedo, normal, light = first_seen(scene, cf, ci, nc, escaped, d, beta)
-                films.add_features(film, y, x, albedo, normal)
-                films.add_emission(film, y, x, light)
-            z, light, counts, smp = caustic_paths.seen(scene, glass[0], glass[1], s, cf, ci, nc,
-                                                       params.max_depth, textures, time, smp)
-            if z > 0:
-                radiance = add(radiance, light)
-            if glass[1] is not None:             # manifold connections: what they did
-                segments += counts[0]
-                film.row_stats[y, CONNECTIONS] += counts[1]
-                film.row_stats[y, UNSOLVED] += counts[2]
-            nl = 0
-            if has_lights:
-                nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)
-                segments += n
-                mis.accumulate(lf, li, 0, nl)
-            light, seen, n, smp = camera_strategies(scene, params, camera_path, light_path,
-                                                    nc, nl, textures, media, time, smp,
-                                                    glass, z)
-            radiance, segments = add(radiance, light), segments + n
-            for sl in range(2, min(nl, params.max_depth) + 1):
-                n, smp = to_camera(scene, params, film, cf, ci, lf, li, sl, y, media, time,
-                                   smp)
-                segments += n
-            films.add_sample(film, y, x, s, radiance[0], radiance[1], radiance[2],
-                             params.clamp, seen[0], seen[1], seen[2])
-    film.row_stats[y, SEGMENTS] += segments
+    time, smp = pixels.shutter(motion, smp)         # one time for both subpaths
+    nc, escaped, d, beta, segments, smp = camera_subpath(scene, params, cf, ci, x, y,
+                                                         textures, media, time, smp)
+    mis.accumulate(cf, ci, 1, nc)
+    radiance = mul(beta, background(scene, d)) if escaped else ZERO
+    if params.only_s >= 0:          # the sky: strategy (0, nc + 1) alone
+        radiance = scale(radiance, alone(params, 0, nc + 1))
+    if film.albedo.shape[0] > 0:    # feature images: a run-time test, no variant
+        albedo, normal, light = first_seen(scene, cf, ci, nc, escaped, d, beta)
+        films.add_features(film, y, x, albedo, normal)
+        films.add_emission(film, y, x, light)
+    z, light, counts, smp = caustic_paths.seen(scene, glass[0], glass[1], s, cf, ci, nc,
+                                               params.max_depth, textures, time, smp)
+    if z > 0:
+        radiance = add(radiance, light)
+    if glass[1] is not None:             # manifold connections: what they did
+        segments += counts[0]
+        film.row_stats[y, CONNECTIONS] += counts[1]
+        film.row_stats[y, UNSOLVED] += counts[2]
+    nl = 0
+    if lights.count(scene, EMITTED) > 0:
+        nl, n, smp = light_subpath(scene, params, lf, li, textures, media, time, smp)
+        segments += n
+        mis.accumulate(lf, li, 0, nl)
+    light, seen, n, smp = camera_strategies(scene, params, camera_path, light_path,
+                                            nc, nl, textures, media, time, smp, glass, z)
+    radiance, segments = add(radiance, light), segments + n
+    for sl in range(2, min(nl, params.max_depth) + 1):
+        n, smp = to_camera(scene, params, film, cf, ci, lf, li, sl, y, media, time, smp)
+        segments += n
+    return radiance, seen, segments
 
 
 @jit_kernel
@@ -372,5 +356,6 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
                                              by_ref(textures))
     caustics_r = by_ref(caustics)
     for k in range(rows.shape[0]):
-        render_row(rows[k], film_r, scene_r, params_r, s0, s1, textures_r, media, motion,
-                   (caustics_r, manifold), (cf, ci), (lf, li))
+        pixels.render_row(bdpt_sample, rows[k], film_r, scene_r, params_r, s0, s1,
+                          (textures_r, media, motion, (caustics_r, manifold), (cf, ci),
+                           (lf, li)))

@@ -38,11 +38,11 @@ from ...kernel.vec3 import madd, mul, neg, scale
 from .. import camera, lights, materials, media as volumes, shapes
 from .. import film as films
 from ..bvh import closest_hit, unoccluded
-from ..film import SEGMENTS
 from ..layout import BG_COLOR, NO_HIT
 from ..materials import isotropic, lambertian
 from ..roulette import roulette
 from ..surface import color_of, surface_at
+from . import pixels
 from .needs import Needs
 from .sampling import Sampling
 
@@ -191,24 +191,14 @@ def trace_light(scene, params, film, source, time, textures, media, smp):
 
 
 @jit_step
-def render_row(y, film, scene, params, s0, s1, events, textures, media, motion):
-    """Trace the light paths of samples s0..s1-1 of the pixels of row y (their
-    keys), splatting what they bring to the camera."""
-    segments = 0
-    width = params.width
-    for x in range(width):
-        pixel = y * width + x
-        for s in range(s0, s1):
-            smp = sampler.start(pixel, s, params.seed, params.pairs)
-            if motion is not None:
-                time, smp = sampler.uniform(smp)
-            else:
-                time = None
-            n, smp = trace_light(scene, params, film, y, time, textures, media, smp)
-            segments += n
-            # The camera's part of the pixel: nothing (it keeps the film's counts).
-            films.add_sample(film, y, x, s, 0.0, 0.0, 0.0, params.clamp, 0.0, 0.0, 0.0)
-    film.row_stats[y, SEGMENTS] += segments
+def light_sample(film, scene, params, y, x, s, smp, state):
+    """The light path of a sample of pixel (x, y) (pixels.render_row; the
+    pixel is its key), splatting what it brings to the camera.  The camera's
+    part of the pixel: nothing (the film keeps its counts)."""
+    textures, media, motion = state
+    time, smp = pixels.shutter(motion, smp)
+    n, smp = trace_light(scene, params, film, y, time, textures, media, smp)
+    return ZERO, ZERO, n
 
 
 @jit_kernel
@@ -220,4 +210,5 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
     film_r, scene_r, params_r, textures_r = (by_ref(film), by_ref(scene), by_ref(params),
                                              by_ref(textures))
     for k in range(rows.shape[0]):
-        render_row(rows[k], film_r, scene_r, params_r, s0, s1, events, textures_r, media, motion)
+        pixels.render_row(light_sample, rows[k], film_r, scene_r, params_r, s0, s1,
+                          (textures_r, media, motion))

@@ -39,11 +39,12 @@ from ...kernel.jit import jit_kernel, jit_step
 from ...kernel.vec3 import add, at_most, madd, mul, neg, scale
 from .. import film as films
 from .. import lights, materials, media as volumes, mnee, nee, pdf, shapes
+from . import pixels
 from .needs import Needs, emitters_left_out
 from .sampling import Sampling
 from ..bvh import closest_hit
 from ..camera import sample_ray
-from ..film import CONNECTIONS, SEGMENTS, UNSOLVED
+from ..film import CONNECTIONS, UNSOLVED
 from ..layout import LISTED, NO_HIT
 from ..roulette import roulette
 from ..lights import background
@@ -315,25 +316,15 @@ def trace(scene, params, ray, time, smp, events, textures, media, manifold, film
 
 
 @jit_step
-def render_row(y, film, scene, params, s0, s1, events, textures, media, motion, manifold):
-    """Trace samples s0..s1-1 of every pixel of row y into the film."""
-    segments = 0
-    width = params.width
-    for x in range(width):
-        pixel = y * width + x
-        for s in range(s0, s1):
-            smp = sampler.start(pixel, s, params.seed, params.pairs)
-            o, d, smp = sample_ray(params.cam, x, y, width, params.height, smp)
-            if motion is not None:
-                time, smp = sampler.uniform(smp)    # on the shutter, for the whole path
-            else:
-                time = None
-            radiance, seen, n, smp = trace(scene, params, (o, d), time, smp, events, textures,
-                                           media, manifold, film, y, x)
-            segments += n
-            films.add_sample(film, y, x, s, radiance[0], radiance[1], radiance[2],
-                             params.clamp, seen[0], seen[1], seen[2])
-    film.row_stats[y, SEGMENTS] += segments
+def camera_sample(film, scene, params, y, x, s, smp, state):
+    """One sample of pixel (x, y) (pixels.render_row): the camera ray, then the
+    shutter's time, then its path.  state: the kernel's features."""
+    events, textures, media, motion, manifold = state
+    o, d, smp = sample_ray(params.cam, x, y, params.width, params.height, smp)
+    time, smp = pixels.shutter(motion, smp)
+    radiance, seen, n, smp = trace(scene, params, (o, d), time, smp, events, textures, media,
+                                   manifold, film, y, x)
+    return radiance, seen, n
 
 
 @jit_kernel
@@ -346,5 +337,5 @@ def render_pass(film, scene, params, rows, s0, s1, events, textures, media, moti
     film_r, scene_r, params_r, textures_r = (by_ref(film), by_ref(scene), by_ref(params),
                                              by_ref(textures))
     for k in range(rows.shape[0]):
-        render_row(rows[k], film_r, scene_r, params_r, s0, s1, events, textures_r, media, motion,
-                   manifold)
+        pixels.render_row(camera_sample, rows[k], film_r, scene_r, params_r, s0, s1,
+                          (events, textures_r, media, motion, manifold))
