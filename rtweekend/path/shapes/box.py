@@ -8,7 +8,8 @@ a turn about y alone, its cosine and sine -- and the rest in M01 .. M22
 normals inward, else 0; OFF_Y (19): 1 when the rotation is not about y alone.
 World to box frame: q = p - offset, then M's transpose applied to q.  A face's
 area is the product of two sides (hi - lo), computed where a light needs it
-rather than stored, so that the row fits OBJ_FLOATS.
+rather than stored, so that the row fits OBJ_FLOATS -- by one function
+(_face_area), which the light table's packing runs as Python.
 
 A box turned about y alone (the books' rotate_y, every bundled scene's) is
 turned by its cosine and sine in the columns the slab test has always read
@@ -53,12 +54,6 @@ def pack(lo, hi, rot, offset, flipped, row):
     row[OFF_Y] = 0.0 if about_y else 1.0
 
 
-def face_areas(row):
-    """The areas of one face normal to x, to y and to z (NumPy; for the lights)."""
-    size = row[HI:HI + 3] - row[LO:LO + 3]
-    return size[1] * size[2], size[0] * size[2], size[0] * size[1]
-
-
 def to_world(row, p):
     """A point of the box's frame in the world (NumPy; for bounds and tests),
     summed in the kernel's order."""
@@ -76,9 +71,9 @@ def bounds(row):
 
 def light_parts(row):
     """[(face, area)] of the box as a light (lights.pack_lights): each of its six
-    faces a part (sample_area draws on one face)."""
-    areas = face_areas(row)
-    return [(face, areas[face // 2]) for face in range(6)]
+    faces a part (sample_area draws on one face).  The areas are _face_area's,
+    run by Python: the one place a face's area is written."""
+    return [(face, _face_area.py_func(row[None], 0, face // 2)) for face in range(6)]
 
 
 @jit_step
@@ -124,7 +119,7 @@ def _world_direction(obj_f, k, v):
 @jit_step
 def _face_area(obj_f, k, axis):
     """The area of one face normal to axis 0, 1 or 2: the product of the other two
-    sides (as face_areas)."""
+    sides (also run as plain Python on a NumPy row: light_parts)."""
     a, b = (1, 2) if axis == 0 else (0, 2) if axis == 1 else (0, 1)
     return (obj_f[k, HI + a] - obj_f[k, LO + a]) * (obj_f[k, HI + b] - obj_f[k, LO + b])
 
