@@ -21,10 +21,11 @@ light_rows holds (object, part, role); light_f, for an EMITTED row:
          it is the one a point drawn on the row is dense by (sample_point)
   POWER  pi x luminance x area: what a one-sided lambertian emitter radiates
 
-and for every row PROB, how often `pick` chooses it among its role's rows
-(EMITTED: by power, or by area if every emitter is black, so that the
-densities stay finite; LISTED: 1 / the list's length), and CDF, its role's
-cumulative PROB, for the binary search of `pick` (one picker for both).
+and for every row PROB, how often `pick` -- one picker for both roles --
+chooses it among its role's rows (EMITTED: by power, or by area if every
+emitter is black, so that the densities stay finite; LISTED: 1 / the list's
+length), and CDF, its role's cumulative PROB (`pick` searches the emitters';
+the list it picks as the books do, int(u n), which gives the same rows).
 `light_pick[k]` is how often next events pick object k, the sum of its
 EMITTED rows' PROB: the density of a direction that happens to reach k.
 
