@@ -42,7 +42,7 @@ from . import shapes
 from .materials import EMITS, objects_with
 from .surface import color_of
 from .layout import (BG_SKY, EMITTED, LIGHT_AREA, LIGHT_CDF, LIGHT_OBJ, LIGHT_PART,
-                     LIGHT_POWER, LIGHT_PROB, LIGHT_ROLE, LISTED, MAT_COLOR, OBJ_KIND,
+                     LIGHT_POWER, LIGHT_PROB, LISTED, MAT_COLOR, OBJ_KIND,
                      OBJ_MAT)
 
 # Rec. 709 luminance of linear RGB: how bright a colour is to the eye.
@@ -83,10 +83,9 @@ def _distribute(light_f, weight):
     light_f[-1, LIGHT_CDF] = 1.0
 
 
-def _with_listed(rows, light_f, listed):
-    """(light_rows, light_f, light_ranges): the EMITTED rows `rows`, light_f,
-    then one LISTED row per object of `listed`, uniformly."""
-    emitted = rows[rows[:, LIGHT_ROLE] == EMITTED]
+def _with_listed(emitted, emitted_f, listed):
+    """(light_rows, light_f, light_ranges): the EMITTED rows `emitted` (their
+    light_f: emitted_f), then one LISTED row per object of `listed`, uniformly."""
     e, n = len(emitted), len(listed)
     listed_rows = np.column_stack([np.asarray(listed, dtype=np.int64), np.full(n, -1),
                                    np.full(n, LISTED)]).astype(np.int64).reshape(-1, 3)
@@ -95,12 +94,14 @@ def _with_listed(rows, light_f, listed):
     listed_f[:, LIGHT_PROB] = 1.0 / max(n, 1)
     listed_f[:, LIGHT_CDF] = np.arange(1, n + 1) / max(n, 1)
     ranges = np.array([[0, e], [e, e + n]], dtype=np.int64)
-    return np.concatenate([emitted, listed_rows]), np.concatenate([light_f[:e], listed_f]), ranges
+    return np.concatenate([emitted, listed_rows]), np.concatenate([emitted_f, listed_f]), ranges
 
 
 def relisted(arrays, listed):
     """The packed scene with its lights list made of the objects `listed`."""
-    rows, light_f, ranges = _with_listed(arrays.light_rows, arrays.light_f, listed)
+    first, end = arrays.light_ranges[EMITTED]
+    rows, light_f, ranges = _with_listed(arrays.light_rows[first:end],
+                                         arrays.light_f[first:end], listed)
     return arrays._replace(light_rows=rows, light_f=light_f, light_ranges=ranges)
 
 
