@@ -1,0 +1,259 @@
+"""Where a sample's time goes: the compiled kernel's source lines, beside the yardstick's.
+
+    python benchmarks/profile_kernel.py [--scene cornell_glass] [--sampling mixture]
+                                        [--seconds 20] [--no-yardstick]
+
+Each side runs in a process of its own -- one thread, an empty Numba cache,
+Numba's line tables on (NUMBA_DEBUGINFO=1: the optimised code keeps its
+shape, only its debug records are added) -- rendering 300x300 passes of two
+samples under `perf record` for --seconds.  A kernel is one machine-code
+function with every step inlined, so a symbol says nothing: each sampled
+address is looked up in the library that holds it, emitted again as an object
+file (the JIT's own code, byte for byte but for relocated operands), and
+`addr2line -i` gives the chain of source lines inlined at that address.  A
+sample counts for every function on its chain (inclusive share) and for the
+innermost line (leaf share).  The yardstick: ../shared/yardsticks/numba_probe.py,
+its float64 build under rtweekend's fastmath flags (benchmarks/yardstick.py),
+the same scene and estimator (its lines are known less well: STRING_SOURCE).
+
+Samples/s here are each side alone, not a ratio (benchmarks/paired.py gives
+that).  Needs Linux perf and binutils (addr2line, nm, objcopy); says so in one
+line without them.  Writes benchmark-results/profile_kernel.json.
+"""
+import argparse
+import ast
+import bisect
+import collections
+import functools
+import gc
+import json
+import os
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import yardstick  # noqa: E402
+from common import machine, save_json  # noqa: E402
+from common import parser as bench_parser  # noqa: E402
+
+SIZE, SPP = 300, 2
+TOOLS = ("perf", "addr2line", "nm", "objcopy")
+MIN_SYMBOL_SHARE = 0.005     # symbols below this share are not looked into
+# The yardstick's prange loop is compiled from generated source: its lines come
+# as "<string>" with the line numbers of the yardstick's file, and the code Numba
+# inlined into it (the yardstick's inline="always" functions) often with no
+# line at all, counted for the file alone.
+STRING_SOURCE = {}
+
+
+def workload(side, scene, sampling):
+    """A function rendering one pass of the side's kernel (compiled by then)."""
+    if side == "rtweekend":
+        import rtweekend as rt
+        r = rt.Renderer(rt.load_scene(scene), seed=1, sampling=sampling, width=SIZE,
+                        height=SIZE)
+        r.compile()
+        r.add_samples(1)
+        return lambda: r.add_samples(SPP)
+    probe = yardstick.load("rtweekend_flags_f64")
+    STRING_SOURCE["<string>"] = probe.__file__
+    passes = iter(range(1, 1 << 30))
+    probe.render(SIZE, SIZE, 1)
+    return lambda: probe.render(SIZE, SIZE, SPP, pass0=SPP * next(passes))
+
+
+def jit_symbols():
+    """[(address, name)] of every function Numba's JIT holds, sorted."""
+    from numba.core.registry import cpu_target
+    engine = cpu_target.target_context.codegen()._engine
+    found = []
+    for name in engine._defined_symbols:
+        try:
+            address = engine.get_function_address(name)
+        except Exception:       # a global that is no function
+            continue
+        if address:
+            found.append((address, name))
+    return sorted(found)
+
+
+def object_of(symbol, folder):
+    """(object file, offset of symbol in its code section, section) of the
+    library defining symbol, emitted again; None if no library has it."""
+    import numba
+    for lib in gc.get_objects():
+        if not isinstance(lib, numba.core.codegen.CPUCodeLibrary):
+            continue
+        module = getattr(lib, "_final_module", None)
+        if module is None:
+            continue
+        try:
+            if module.get_function(symbol).is_declaration:
+                continue
+        except NameError:
+            continue
+        path = folder / f"lib{id(lib)}.o"
+        if not path.exists():
+            path.write_bytes(lib._codegen._tm.emit_object(module))
+        table = subprocess.run(["nm", str(path)], capture_output=True, text=True).stdout
+        for line in table.splitlines():
+            if line.endswith(" " + symbol):
+                return path, int(line.split()[0], 16)
+    return None
+
+
+def inline_chains(path, offsets):
+    """{offset: [file:line, ...]} innermost first, by addr2line -i."""
+    text = "\n".join(f"{o:x}" for o in offsets) + "\n"
+    out = subprocess.run(["addr2line", "-a", "-i", "-e", str(path)], input=text,
+                         capture_output=True, text=True).stdout.splitlines()
+    chains, current = {}, None
+    for line in out:
+        if line.startswith("0x"):
+            current = chains.setdefault(int(line, 16), [])
+        elif current is not None:
+            current.append(line.split(" (discriminator")[0])
+    return chains
+
+
+@functools.lru_cache(maxsize=None)
+def _functions_of(path):
+    """[(first line, last line, qualified name)] of a Python file's functions."""
+    try:
+        tree = ast.parse(Path(path).read_text())
+    except (OSError, SyntaxError, ValueError):
+        return []
+    found = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.FunctionDef):
+            found.append((node.lineno, node.end_lineno, node.name))
+    return sorted(found, key=lambda f: f[1] - f[0])      # innermost first
+
+
+def function_at(frame):
+    """'module.py:function' for a file:line frame (file alone if unknown)."""
+    path, _, line = frame.rpartition(":")
+    path = STRING_SOURCE.get(Path(path).name, path)
+    short = path.split("rtweekend/")[-1] if "rtweekend/" in path else Path(path).name
+    if line.isdigit():
+        for first, last, name in _functions_of(path):
+            if first <= int(line) <= last:
+                return f"{short}:{name}"
+    return short
+
+
+def profile_here(side, scene, sampling, seconds):
+    """The child process's work: render under perf, attribute, print JSON."""
+    render = workload(side, scene, sampling)
+    symbols = jit_symbols()
+    starts = [a for a, _ in symbols]
+    render()
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        data = tmp / "perf.data"
+        perf = subprocess.Popen(["perf", "record", "-F", "2000", "-q", "-p", str(os.getpid()),
+                                 "-o", str(data)], stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL)
+        time.sleep(1.0)                         # perf attached
+        t0, passes = time.perf_counter(), 0
+        while time.perf_counter() - t0 < seconds:
+            render()
+            passes += 1
+        elapsed = time.perf_counter() - t0
+        perf.send_signal(signal.SIGINT)
+        perf.wait()
+        ips = subprocess.run(["perf", "script", "-i", str(data), "-F", "ip"],
+                             capture_output=True, text=True).stdout.split()
+        by_symbol = collections.defaultdict(collections.Counter)
+        total = 0
+        for ip in ips:
+            ip = int(ip, 16)
+            total += 1
+            i = bisect.bisect_right(starts, ip) - 1
+            if i >= 0 and (i + 1 == len(starts) or ip < starts[i + 1]):
+                by_symbol[symbols[i][1]][ip - starts[i]] += 1
+        inclusive, leaf = collections.Counter(), collections.Counter()
+        attributed = 0
+        for symbol, offsets in by_symbol.items():
+            if sum(offsets.values()) < MIN_SYMBOL_SHARE * total:
+                continue
+            found = object_of(symbol, tmp)
+            if found is None:
+                continue
+            path, base = found
+            chains = inline_chains(path, [base + o for o in offsets])
+            for offset, count in offsets.items():
+                chain = chains.get(base + offset) or ["?"]
+                attributed += count
+                leaf[function_at(chain[0]) + ":" + chain[0].rpartition(":")[2]] += count
+                for name in dict.fromkeys(function_at(f) for f in chain):
+                    inclusive[name] += count
+
+    def share(counts):
+        return [dict(name=k, share=v / total) for k, v in counts.most_common(60)]
+    print(json.dumps(dict(samples=total, attributed=attributed / max(total, 1),
+                          samples_per_s=passes * SIZE * SIZE * SPP / elapsed,
+                          inclusive=share(inclusive), leaf=share(leaf))))
+
+
+def run_side(side, args):
+    env = dict(os.environ, NUMBA_DEBUGINFO="1", NUMBA_NUM_THREADS="1",
+               RTWEEKEND_COMPILE_HELPERS="0")
+    with tempfile.TemporaryDirectory() as cache:
+        env["NUMBA_CACHE_DIR"] = cache
+        r = subprocess.run([sys.executable, __file__, "--child", side, "--scene", args.scene,
+                            "--sampling", args.sampling, "--seconds", str(args.seconds)],
+                           env=env, capture_output=True, text=True)
+    if r.returncode:
+        raise SystemExit(f"profile_kernel: the {side} process failed:\n{r.stderr[-2000:]}")
+    return json.loads(r.stdout.strip().splitlines()[-1])
+
+
+def main():
+    p = bench_parser(__doc__)
+    p.add_argument("--scene", default="cornell_glass")
+    p.add_argument("--sampling", default="mixture")
+    p.add_argument("--seconds", type=float, default=20.0)
+    p.add_argument("--no-yardstick", action="store_true")
+    p.add_argument("--child", help=argparse.SUPPRESS)
+    args = p.parse_args()
+    if args.child:
+        profile_here(args.child, args.scene, args.sampling, args.seconds)
+        return
+    missing = [t for t in TOOLS if shutil.which(t) is None]
+    if missing:
+        print(f"profile_kernel: needs {', '.join(missing)} (Linux perf, binutils); not run")
+        return
+    if args.quick:
+        args.seconds = 2.0
+    sides = ["rtweekend"]
+    if not args.no_yardstick and args.scene == "cornell_glass" and args.sampling == "mixture":
+        if yardstick.available():
+            sides.append("yardstick")
+        else:
+            print(f"profile_kernel: no yardstick at {yardstick.PATH}; rtweekend alone")
+    results = {side: run_side(side, args) for side in sides}
+    for side, r in results.items():
+        print(f"\n{side}: {r['samples_per_s'] / 1e6:.2f} M samples/s alone, {r['samples']} "
+              f"perf samples, {r['attributed']:.0%} attributed to source lines")
+        print("  inclusive (a sample counts for every function inlined on its chain):")
+        for row in r["inclusive"][:25]:
+            print(f"    {row['share']:6.1%}  {row['name']}")
+        print("  leaf lines:")
+        for row in r["leaf"][:15]:
+            print(f"    {row['share']:6.1%}  {row['name']}")
+    if not args.quick:
+        path = save_json("profile_kernel.json", dict(machine=machine(), scene=args.scene,
+                                                     sampling=args.sampling, size=SIZE,
+                                                     seconds=args.seconds, sides=results),
+                         args.out)
+        print(f"\nwrote {path}")
+
+
+if __name__ == "__main__":
+    main()
