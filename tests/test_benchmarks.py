@@ -295,6 +295,36 @@ def test_light_pick_benchmark_quick(tmp_path):
     assert [line.split()[0] for line in lines] == ["simple_light", "bright_and_dim"]
 
 
+
+def test_profile_kernel_names_the_function_around_a_line(tmp_path):
+    """A sampled address's source line goes to the function whose body holds it
+    (the innermost one), a line-less frame to its file alone."""
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    try:
+        import profile_kernel
+    finally:
+        sys.path.remove(str(REPO / "benchmarks"))
+    bvh = REPO / "rtweekend" / "path" / "bvh.py"
+    lines = bvh.read_text().splitlines()
+    body = next(i for i, line in enumerate(lines, 1) if "def nearest_in_leaf(" in line) + 4
+    assert profile_kernel.function_at(f"{bvh}:{body}") == "path/bvh.py:nearest_in_leaf"
+    assert profile_kernel.function_at(f"{bvh}:?") == "path/bvh.py"
+    nested = tmp_path / "nested.py"
+    nested.write_text("def outer():\n    def inner():\n        return 1\n    return inner\n")
+    assert profile_kernel.function_at(f"{nested}:3") == "nested.py:inner"
+    assert profile_kernel.function_at(f"{nested}:4") == "nested.py:outer"
+
+
+def test_profile_kernel_without_perf_says_so_in_one_line(tmp_path):
+    env = dict(os.environ, PATH=str(tmp_path))        # no perf, no binutils
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "profile_kernel.py"),
+                        "--quick", "--out", str(tmp_path)], capture_output=True, text=True,
+                       timeout=120, env=env)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip().splitlines() == [
+        "profile_kernel: needs perf, addr2line, nm, objcopy (Linux perf, binutils); not run"]
+
+
 # -- the Mitsuba 3 scripts (the peer and the references' makers) -------------------
 
 def _mitsuba(script, *args, cwd=None):
