@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numba
 from numba.core import caching, config
+from numba.core.runtime import rtsys
 
 from . import compile_clock
 
@@ -240,7 +241,7 @@ class PackageCache(caching.FunctionCache):
         since = time.perf_counter()
         with locked():
             try:
-                found = super().load_overload(sig, target_context)
+                found = _load(self, sig, target_context)
             except (ImportError, AttributeError, EOFError, pickle.UnpicklingError):
                 found = None          # an index naming what is not here: compile afresh
         if found is None:             # a compile follows: part of its cost
@@ -254,6 +255,21 @@ class PackageCache(caching.FunctionCache):
         with locked():
             super().save_overload(sig, data)
         compile_clock.add_since(since)
+
+
+def _load(cache, sig, target_context):
+    """Numba's Cache.load_overload without its target_context.refresh(): the
+    refresh imports and installs every implementation Numba has for compiling
+    (its linear algebra's check for a BLAS imports SciPy when it is installed),
+    0.7 s of a 3 s cached start, none of it needed to load machine code.  What
+    loaded code calls is NRT's functions (initialised here: their symbols) and
+    Numba's C helpers (registered when numba is imported); a compile later in
+    the process refreshes first anyway (CompilerBase)."""
+    rtsys.initialize(target_context)
+    found = None
+    with cache._guard_against_spurious_io_errors():
+        found = cache._load_overload(sig, target_context)
+    return found
 
 
 def takes_a_function(sig):
