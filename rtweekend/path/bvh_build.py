@@ -172,6 +172,33 @@ def _costs(count, blo, bhi, parent, cost):
 
 
 @jit_step(exact=True)
+def _first_min(a):
+    """np.argmin(a): the first index of the smallest value, or of the first NaN.
+    Written out, as _first_max: Numba's np.argmin lives in numba.np.arraymath,
+    which a cached builder would import at every start, and that module imports
+    SciPy's BLAS when SciPy is installed (kernel/disk_cache.py, _load)."""
+    best = 0
+    for i in range(1, a.shape[0]):
+        if a[best] != a[best]:
+            break
+        if a[i] < a[best] or a[i] != a[i]:
+            best = i
+    return best
+
+
+@jit_step(exact=True)
+def _first_max(a):
+    """np.argmax(a): the first index of the largest value, or of the first NaN."""
+    best = 0
+    for i in range(1, a.shape[0]):
+        if a[best] != a[best]:
+            break
+        if a[i] > a[best] or a[i] != a[i]:
+            best = i
+    return best
+
+
+@jit_step(exact=True)
 def _split(bounds, centroids, ids, start, end, goes_left, box, bins, cost, c3):
     """Fill goes_left[:n] for the cheapest binned split of ids[start:end];
     False if a leaf is cheaper.  box: the objects' bounds (lo, hi), already
@@ -194,7 +221,7 @@ def _split(bounds, centroids, ids, start, end, goes_left, box, bins, cost, c3):
         if extent[axis] <= 0.0:
             continue
         _costs(count[axis], blo[axis], bhi[axis], parent, cost)
-        s = np.argmin(cost)
+        s = _first_min(cost)
         if cost[s] < best:
             best, found = cost[s], True
             for j in range(n):
@@ -212,7 +239,7 @@ def _median_split(centroids, ids, start, end, goes_left):
         for j in range(start, end):
             lo, hi = min(lo, centroids[ids[j], c]), max(hi, centroids[ids[j], c])
         spread[c] = hi - lo
-    axis = np.argmax(spread)
+    axis = _first_max(spread)
     keys = np.empty(n)
     for j in range(n):
         keys[j] = centroids[ids[start + j], axis]
