@@ -6,8 +6,7 @@ from the outermost one's start to its end, whatever started it: packing a
 scene, building a BVH, reading an OBJ file, a render kernel, the photon maps,
 the denoiser's pass.  Waiting for kernels that helper processes compile
 (kernel/compile_workers.py) counts as compiling too, and so do the cache's
-look-up that finds nothing before a compile (the process's first also
-imports Numba's code generators: most of a second) and its saving of what was
+look-up that finds nothing before a compile and its saving of what was
 compiled after (kernel/disk_cache.py): Numba does both outside its event.
 So the seconds a render reports as compiling are all of them, and a progress
 display can say "compiling" exactly while something compiles (io/progress.py
