@@ -17,7 +17,7 @@ its float64 build under rtweekend's fastmath flags (benchmarks/yardstick.py),
 the same scene and estimator (its lines are known less well: STRING_SOURCE).
 
 Samples/s here are each side alone, not a ratio (benchmarks/paired.py gives
-that).  Needs Linux perf and binutils (addr2line, nm, objcopy); says so in one
+that).  Needs Linux perf and binutils (addr2line, nm); says so in one
 line without them.  Writes benchmark-results/profile_kernel.json.
 """
 import argparse
@@ -42,7 +42,7 @@ from common import machine, save_json  # noqa: E402
 from common import parser as bench_parser  # noqa: E402
 
 SIZE, SPP = 300, 2
-TOOLS = ("perf", "addr2line", "nm", "objcopy")
+TOOLS = ("perf", "addr2line", "nm")
 MIN_SYMBOL_SHARE = 0.005     # symbols below this share are not looked into
 # The yardstick's prange loop is compiled from generated source: its lines come
 # as "<string>" with the line numbers of the yardstick's file, and the code Numba
@@ -123,7 +123,7 @@ def inline_chains(path, offsets):
 
 @functools.lru_cache(maxsize=None)
 def _functions_of(path):
-    """[(first line, last line, qualified name)] of a Python file's functions."""
+    """[(first line, last line, name)] of a Python file's functions."""
     try:
         tree = ast.parse(Path(path).read_text())
     except (OSError, SyntaxError, ValueError):

@@ -322,7 +322,7 @@ def test_profile_kernel_without_perf_says_so_in_one_line(tmp_path):
                        timeout=120, env=env)
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip().splitlines() == [
-        "profile_kernel: needs perf, addr2line, nm, objcopy (Linux perf, binutils); not run"]
+        "profile_kernel: needs perf, addr2line, nm (Linux perf, binutils); not run"]
 
 
 # -- the Mitsuba 3 scripts (the peer and the references' makers) -------------------

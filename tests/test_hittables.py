@@ -407,15 +407,15 @@ def test_the_wide_walk_finds_what_the_stackless_walk_finds():
     assert np.array_equal(k1, k2) and np.array_equal(t1, t2)
 
 
-def test_the_builders_first_min_and_max_are_numpys_argmin_and_argmax():
+def test_the_builders_first_extreme_is_numpys_argmin_and_argmax():
     # The builder's own argmin / argmax (bvh_build.py: written out so that a
     # cached builder needs no numba.np.arraymath) pick what NumPy's pick: the
     # first of equal values, the first NaN, infinities in order.
-    from rtweekend.path.bvh_build import _first_max, _first_min
+    from rtweekend.path.bvh_build import _first_extreme
     rng = np.random.default_rng(5)
     values = np.array([0.0, 1.0, -1.0, np.inf, -np.inf, np.nan, 2.5])
     for n in (1, 2, 3, 7, 16):
         for _ in range(300):
             a = rng.choice(values, size=n)
-            assert _first_min(a) == np.argmin(a), a
-            assert _first_max(a) == np.argmax(a), a
+            assert _first_extreme(a, False) == np.argmin(a), a
+            assert _first_extreme(a, True) == np.argmax(a), a

@@ -172,28 +172,17 @@ def _costs(count, blo, bhi, parent, cost):
 
 
 @jit_step(exact=True)
-def _first_min(a):
-    """np.argmin(a): the first index of the smallest value, or of the first NaN.
-    Written out, as _first_max: Numba's np.argmin lives in numba.np.arraymath,
-    which a cached builder would import at every start, and that module imports
-    SciPy's BLAS when SciPy is installed (kernel/disk_cache.py, _load)."""
+def _first_extreme(a, largest):
+    """np.argmax(a) (largest) or np.argmin(a): the first index of the extreme
+    value, or of the first NaN.  Written out: Numba's np.argmin and np.argmax
+    live in numba.np.arraymath, which a cached builder would import at every
+    start, and that module imports SciPy's BLAS when SciPy is installed
+    (kernel/disk_cache.py, _load)."""
     best = 0
     for i in range(1, a.shape[0]):
         if a[best] != a[best]:
             break
-        if a[i] < a[best] or a[i] != a[i]:
-            best = i
-    return best
-
-
-@jit_step(exact=True)
-def _first_max(a):
-    """np.argmax(a): the first index of the largest value, or of the first NaN."""
-    best = 0
-    for i in range(1, a.shape[0]):
-        if a[best] != a[best]:
-            break
-        if a[i] > a[best] or a[i] != a[i]:
+        if a[i] != a[i] or (a[i] > a[best] if largest else a[i] < a[best]):
             best = i
     return best
 
@@ -221,7 +210,7 @@ def _split(bounds, centroids, ids, start, end, goes_left, box, bins, cost, c3):
         if extent[axis] <= 0.0:
             continue
         _costs(count[axis], blo[axis], bhi[axis], parent, cost)
-        s = _first_min(cost)
+        s = _first_extreme(cost, False)
         if cost[s] < best:
             best, found = cost[s], True
             for j in range(n):
@@ -239,7 +228,7 @@ def _median_split(centroids, ids, start, end, goes_left):
         for j in range(start, end):
             lo, hi = min(lo, centroids[ids[j], c]), max(hi, centroids[ids[j], c])
         spread[c] = hi - lo
-    axis = _first_max(spread)
+    axis = _first_extreme(spread, True)
     keys = np.empty(n)
     for j in range(n):
         keys[j] = centroids[ids[start + j], axis]
