@@ -131,6 +131,31 @@ def test_a_kernel_that_fails_in_a_helper_is_one_clear_error(tmp_path):
                               "failed: TypingError: ") and "\n" not in message
 
 
+def test_a_helpers_failed_kernel_is_marked_done_only_after_its_failure_is_written(tmp_path,
+                                                                                 monkeypatch):
+    # The parent reads the failure once it sees the kernel done: seen done first,
+    # with no failure yet, it compiled the kernel again itself (TypingError, not
+    # the one CompileError).  The helper's loop, in this process.
+    import numpy as np
+    from numba.core.errors import TypingError
+    from rtweekend.kernel import claims
+    from rtweekend.kernel.vec3 import dot
+    failures_when_done = []
+    mark = claims.Session.done
+
+    def done(self, key, job=False):
+        mark(self, key, job)
+        if self.is_done(key):
+            failures_when_done.append(self.failure())
+    monkeypatch.setattr(claims.Session, "done", done)
+    sig = compile_workers.signature((np.zeros(3), 1))
+    with claims.Session(str(tmp_path)) as session, pytest.raises(TypingError):
+        compile_workers.compile_own(session, [("rtweekend.kernel.vec3", "dot", sig)])
+    assert failures_when_done and all(f and f.startswith("TypingError: ") and "\x1b" not in f
+                                      for f in failures_when_done)
+    assert dot((1.0, 2.0, 3.0), (4.0, 5.0, 6.0)) == 32.0
+
+
 def _children(pid):
     """The pids of pid's child processes (Linux /proc)."""
     out = []

@@ -48,6 +48,11 @@ class Session:
     def __init__(self, folder):
         self.folder = folder
         self.mine = set()               # keys this process claimed
+        # A helper's own jobs: marked done by the job (compile_workers.py), after
+        # a failure's line is written, not by the compile inside it -- else the
+        # other process could see the job done, find no failure yet, and
+        # compile the kernel again itself.
+        self.jobs = set()
 
     def __enter__(self):
         _SESSION[0] = self
@@ -96,9 +101,11 @@ class Session:
         except OSError:
             return None
 
-    def done(self, key):
-        """The step is in the cache (or failed: the other compiles it itself)."""
-        open(self._path("done", key), "w").close()
+    def done(self, key, job=False):
+        """The step is in the cache (or failed: the other compiles it itself).
+        job=True: the end of one of self.jobs (the only way those are marked)."""
+        if job or key not in self.jobs:
+            open(self._path("done", key), "w").close()
 
     def is_done(self, key):
         return os.path.exists(self._path("done", key))

@@ -23,6 +23,7 @@ this process compiles the render's kernels -- then to wait for its job.
 import atexit
 import os
 import pickle
+import re
 import shutil
 import subprocess
 import sys
@@ -277,6 +278,31 @@ def stop_all():
 atexit.register(stop_all)
 
 
+def one_line(error):
+    """An exception's message on one line, without the terminal colours Numba
+    puts in its typing errors."""
+    return " ".join(re.sub(r"\x1b\[[0-9;]*m", "", str(error)).split())
+
+
+def compile_own(session, own):
+    """In a helper: compile its own kernels [(module, name, sig)], each marked
+    done when it is in the cache -- or, failed, after the failure's line is
+    written (the parent reads it once it sees the kernel done)."""
+    from importlib import import_module
+    for m, n, s in own:
+        dispatcher = getattr(import_module(m), n)
+        key = session.key(dispatcher, s)
+        session.mine.add(key)
+        session.jobs.add(key)
+        try:
+            dispatcher.compile(s)
+        except Exception as e:
+            session.fail(f"{type(e).__name__}: {one_line(e)}"[:500])
+            raise
+        finally:
+            session.done(key, job=True)
+
+
 def _serve():
     """In a helper: run what is asked ahead, read the job, compile its kernels,
     help with the parent's, leave (os._exit: no teardown)."""
@@ -303,17 +329,7 @@ def _serve():
             claims.Session(folder).done(key)
     _, folder, own, (module, name, sig) = message
     with collector_paused(), claims.Session(folder) as session:
-        for m, n, s in own:
-            dispatcher = getattr(import_module(m), n)
-            key = session.key(dispatcher, s)
-            session.mine.add(key)
-            try:
-                dispatcher.compile(s)
-            except Exception as e:
-                session.fail(f"{type(e).__name__}: {' '.join(str(e).split())}"[:500])
-                raise
-            finally:
-                session.done(key)
+        compile_own(session, own)
         claims.return_type(getattr(import_module(module), name), sig)
     sys.stderr.flush()
     os._exit(0)
