@@ -35,8 +35,9 @@ denoiser's bias is larger than the noise it removes.
 
 Writes benchmark-results/accuracy.json, benchmark-results/accuracy.png (log-log error vs seconds,
 one line per strategy and Mitsuba) and benchmark-results/accuracy_crops.png (equal-time
-crops).  --quick runs a tiny version (seconds, cornell_box and cornell_glass unless
---scenes says otherwise) to check that the script works.
+crops).  --quick runs a tiny version (up to 4 spp, images a third or half the size,
+each against its reference averaged over blocks of that many pixels; cornell_box
+and cornell_glass unless --scenes says otherwise) to check that the script works.
 """
 import itertools
 import json
@@ -85,7 +86,18 @@ FAILURES = {name: dict(width=100, height=100, max_spp=4096, crop_seconds=4.0,
 GLOSSY = {"cornell_rough": dict(width=100, height=100, max_spp=2048, crop_seconds=4.0,
                                 reference="cornell_rough_100", reference_spp=65536)}
 FULL = {**BOOKS, **FAILURES, **GLOSSY}
-QUICK = {name: dict(cfg, max_spp=4, crop_seconds=0.05) for name, cfg in FULL.items()}
+
+
+def _shrink(size):
+    """--quick's image is the reference's size over this (its pixels are blocks of
+    the reference's: the same camera, so the same radiance per block)."""
+    return 3 if size % 3 == 0 else 2
+
+
+QUICK = {name: dict(cfg, max_spp=4, crop_seconds=0.05, shrink=_shrink(cfg["width"]),
+                    width=cfg["width"] // _shrink(cfg["width"]),
+                    height=cfg["height"] // _shrink(cfg["width"]))
+         for name, cfg in FULL.items()}
 FIT_FROM_SPP = 8        # fit the slope where per-pass overheads no longer matter
 SEED = 2024             # the renders measured; references use other seeds
 NET_FLOOR = 0.1         # errors(): the net RMSE is at least this share of the raw one
@@ -428,6 +440,18 @@ def crop_chart(images, path):
     plt.close(fig)
 
 
+def block_means(ref, ref_se, k):
+    """The reference (radiance, its standard error) over blocks of k x k pixels:
+    the mean, and the standard error of the mean (pixels' errors independent)."""
+    if k == 1:
+        return ref, ref_se
+    h, w, c = ref.shape
+    blocks = (h // k, k, w // k, k, c)
+    mean = ref[:h // k * k, :w // k * k].reshape(blocks).mean(axis=(1, 3))
+    var = (ref_se[:h // k * k, :w // k * k] ** 2).reshape(blocks).sum(axis=(1, 3))
+    return mean, np.sqrt(var) / (k * k)
+
+
 def peer_crop(images, seconds):
     """Mitsuba's render with the most samples within `seconds` (else its first)."""
     within = [im for im in images if im[2] <= seconds] or images[:1]
@@ -469,6 +493,7 @@ def main(argv=None):
                   "(set RTWEEKEND_REFERENCES); skipped")
             continue
         ref, ref_se, ref_file = found
+        ref, ref_se = block_means(ref, ref_se, cfg.get("shrink", 1))
         if cfg.get("mask_above") is not None:        # NaN: left out of every error
             out = (ref.max(axis=2) > cfg["mask_above"])[..., None]
             ref = np.where(out, np.nan, ref)

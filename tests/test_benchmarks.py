@@ -219,6 +219,25 @@ def test_first_render_and_next_share_one_empty_cache_folder():
     assert first_render_and_next([sys.executable, "-c", same]) == (0, 5)
 
 
+def test_accuracy_quick_measures_against_the_reference_over_blocks_of_pixels():
+    # --quick renders a third (or half) of the reference's size: each of its
+    # pixels is a block of the reference's, whose mean and standard error it
+    # is measured against.
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    import accuracy
+    rng = np.random.default_rng(3)
+    ref, se = rng.random((6, 9, 3)), rng.random((6, 9, 3))
+    mean, err = accuracy.block_means(ref, se, 3)
+    assert mean.shape == err.shape == (2, 3, 3)
+    np.testing.assert_allclose(mean[1, 2], ref[3:6, 6:9].mean(axis=(0, 1)))
+    np.testing.assert_allclose(err[1, 2], np.sqrt((se[3:6, 6:9] ** 2).sum(axis=(0, 1))) / 9)
+    assert accuracy.block_means(ref, se, 1) == (ref, se)
+    for name, cfg in accuracy.QUICK.items():
+        full = accuracy.FULL[name]
+        assert cfg["shrink"] > 1 and cfg["width"] * cfg["shrink"] == full["width"]
+        assert cfg["height"] * cfg["shrink"] == full["height"]
+
+
 def test_accuracy_summary_when_the_base_starts_after_the_equal_time(capsys):
     # A short run on a busy machine: the base's first pass took longer than the
     # whole curve of another strategy, so its error at that time is unknown.
