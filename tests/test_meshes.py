@@ -292,6 +292,23 @@ def test_a_box_turned_off_its_axes_is_the_box_of_six_turned_quads_or_triangles()
     assert np.abs(d.image - a.image).max() > 0.1
 
 
+def test_a_small_mesh_is_packed_by_numpy_into_the_compiled_packings_bits():
+    # Meshes up to NUMPY_PACK_MAX triangles are packed by NumPy (nothing to
+    # compile), larger ones by the compiled loop: both write the same rows.
+    from rtweekend.path.shapes import triangle
+    rng = np.random.default_rng(11)
+    vertices = rng.normal(size=(500, 3)) * 10.0 ** rng.integers(-3, 4, size=(500, 1))
+    faces = rng.integers(0, 500, size=(2000, 3))
+    faces = faces[(faces[:, 0] != faces[:, 1]) & (faces[:, 1] != faces[:, 2])
+                  & (faces[:, 0] != faces[:, 2])]
+    compiled = np.full((len(faces), 16), 7.0)
+    by_numpy = compiled.copy()
+    triangle.pack(vertices, faces, 40, compiled)
+    triangle.pack_rows(vertices, faces, 40, by_numpy)
+    assert compiled.tobytes() == by_numpy.tobytes()
+    assert by_numpy[-1, triangle.INDEX] == 40 + len(faces) - 1 and by_numpy[0, 15] == 7.0
+
+
 def test_a_mesh_file_is_read_placed_and_scaled(tmp_path):
     (tmp_path / "models").mkdir()
     (tmp_path / "models" / "square.obj").write_text(OBJ)

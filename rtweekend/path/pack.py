@@ -233,7 +233,8 @@ class TriangleTables:
         world = vertices @ rot.T + offset
         if shape.flipped:
             faces = faces[:, ::-1]
-        triangle.pack(world, np.ascontiguousarray(faces), self.count, rows)
+        pack = triangle.pack_rows if len(faces) <= triangle.NUMPY_PACK_MAX else triangle.pack
+        pack(world, np.ascontiguousarray(faces), self.count, rows)
         # Per triangle, for its three corners; vertex normals turn with the
         # mesh (a rotation keeps angles).  None: the mesh has none.
         self.uvs.append((len(faces), uvs[faces].reshape(-1, 6) if uvs is not None else None))

@@ -53,11 +53,33 @@ INDEX = 13
 FLOATS = 14
 
 
+# Meshes up to this many triangles are packed by NumPy (pack_rows): a first
+# run then compiles no packing (benchmarks/results/measurements.md).
+NUMPY_PACK_MAX = 100_000
+
+
+def pack_rows(vertices, faces, first_index, block):
+    """pack's rows, by NumPy: the same operations in the same order, so the
+    same bits (tests/test_meshes.py), and nothing to compile."""
+    a, b, c = vertices[faces[:, 0]], vertices[faces[:, 1]], vertices[faces[:, 2]]
+    block[:, P0:P0 + 3], block[:, P1:P1 + 3], block[:, P2:P2 + 3] = a, b, c
+    u, v = b - a, c - a
+    nx = u[:, 1] * v[:, 2] - u[:, 2] * v[:, 1]
+    ny = u[:, 2] * v[:, 0] - u[:, 0] * v[:, 2]
+    nz = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+    double_area = np.sqrt(nx * nx + ny * ny + nz * nz)
+    block[:, N], block[:, N + 1], block[:, N + 2] = (nx / double_area, ny / double_area,
+                                                     nz / double_area)
+    block[:, AREA] = 0.5 * double_area
+    block[:, INDEX] = first_index + np.arange(len(faces))
+
+
 @jit_host
 def pack(vertices, faces, first_index, block):
     """Fill block [F, >= FLOATS] with the triangles faces[f] of vertices (V x 3,
     placed in the world); their table rows start at first_index.  (NumPy's
-    cross product and norm, operation for operation.)"""
+    cross product and norm, operation for operation.)  Compiled, for meshes
+    larger than NUMPY_PACK_MAX."""
     for f in range(faces.shape[0]):
         a, b, c = faces[f, 0], faces[f, 1], faces[f, 2]
         for k in range(3):
