@@ -201,12 +201,15 @@ def test_ctrl_c_while_compiling_stops_the_helpers_too(tmp_path, scene):
 
 # The command on a scene read from an OBJ file, its compiles watched: each
 # compile that starts with no other running says whether a spinner was up, and
-# whether it runs in the main thread.
+# whether it runs in the main thread.  Its triangle is packed by the compiled
+# loop, as a mesh of over NUMPY_PACK_MAX triangles would be.
 SPINNER_UP = """
 import sys, threading
 from numba.core import event
 from rtweekend.io.progress import Spinner
 from rtweekend import cli
+from rtweekend.path.shapes import triangle
+triangle.NUMPY_PACK_MAX = 0
 
 class Watch(event.Listener):
     depth = 0
@@ -315,7 +318,7 @@ def test_the_cache_look_up_before_a_compile_and_its_save_after_count(monkeypatch
     monkeypatch.setattr(caching.FunctionCache, "_load_overload", look_up)
     monkeypatch.setattr(disk_cache.rtsys, "initialize", lambda context: None)
     monkeypatch.setattr(caching.FunctionCache, "save_overload", save)
-    cache = bvh_build._pad_rows._cache
+    cache = bvh_build._triangle_bounds._cache
     assert isinstance(cache, disk_cache.PackageCache)
 
     def counted(block):

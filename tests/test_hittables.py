@@ -419,3 +419,18 @@ def test_the_builders_first_extreme_is_numpys_argmin_and_argmax():
             a = rng.choice(values, size=n)
             assert _first_extreme(a, False) == np.argmin(a), a
             assert _first_extreme(a, True) == np.argmax(a), a
+
+
+def test_the_bounds_padding_in_numpy_is_the_compiled_pads_bits():
+    # Objects other than triangles are padded by NumPy (a scene without meshes
+    # compiles no bounds), triangles by the compiled _pad: the same widening.
+    from rtweekend.path.bvh_build import _pad, _pad_rows
+    rng = np.random.default_rng(5)
+    boxes = rng.normal(size=(300, 6)) * 10.0 ** rng.integers(-12, 6, size=(300, 1))
+    by_numpy, compiled = boxes.copy(), boxes.copy()
+    rows = np.arange(0, 300, 2)
+    _pad_rows(by_numpy, rows)
+    for k in rows:
+        _pad(compiled, k)
+    assert by_numpy.tobytes() == compiled.tobytes()
+    assert (by_numpy[1::2] == boxes[1::2]).all() and (by_numpy[::2, :3] < boxes[::2, :3]).all()
