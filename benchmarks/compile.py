@@ -105,11 +105,16 @@ def before_first_pass():
 def main():
     p = bench_parser(__doc__)
     p.add_argument("--rounds", type=int, default=1, help="cold runs per scene (median)")
-    p.add_argument("--scenes", help="comma-separated (default: every bundled scene, then "
-                   "mixed_features.toml)")
+    p.add_argument("--scenes", help="comma-separated names or scene files (default: every "
+                   "bundled scene, then mixed_features)")
     args = p.parse_args()
     if args.scenes:
-        scenes = args.scenes.split(",")
+        known = {name: name for name in _listed()} | {MIXED.stem: str(MIXED)}
+        scenes = [known.get(s, s) for s in args.scenes.split(",")]
+        unknown = [s for s in scenes if s not in known.values() and not Path(s).is_file()]
+        if unknown:
+            p.error(f"--scenes: no scene {', '.join(unknown)} (bundled: "
+                    f"{', '.join(known)}; or a scene file)")
     elif args.quick:
         scenes = ["cornell_box", "cgfs"]
     else:
