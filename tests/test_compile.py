@@ -143,8 +143,8 @@ def test_a_helpers_failed_kernel_is_marked_done_only_after_its_failure_is_writte
     failures_when_done = []
     mark = claims.Session.done
 
-    def done(self, key, job=False):
-        mark(self, key, job)
+    def done(self, key):
+        mark(self, key)
         if self.is_done(key):
             failures_when_done.append(self.failure())
     monkeypatch.setattr(claims.Session, "done", done)

@@ -101,10 +101,10 @@ class Session:
         except OSError:
             return None
 
-    def done(self, key, job=False):
+    def done(self, key):
         """The step is in the cache (or failed: the other compiles it itself).
-        job=True: the end of one of self.jobs (the only way those are marked)."""
-        if job or key not in self.jobs:
+        Not one of self.jobs: its job marks it, once out of that set."""
+        if key not in self.jobs:
             open(self._path("done", key), "w").close()
 
     def is_done(self, key):

@@ -300,7 +300,8 @@ def compile_own(session, own):
             session.fail(f"{type(e).__name__}: {one_line(e)}"[:500])
             raise
         finally:
-            session.done(key, job=True)
+            session.jobs.discard(key)
+            session.done(key)
 
 
 def _serve():
