@@ -16,7 +16,7 @@ from numba.core.registry import CPUDispatcher
 from numba.extending import overload
 from numba.np.numpy_support import as_dtype
 
-from . import claims
+from . import claims, typing_costs  # noqa: F401  (typing_costs: installed on import)
 from .disk_cache import PackageCache
 from .step_library import KernelCompiler, StepCache, StepCompiler
 
