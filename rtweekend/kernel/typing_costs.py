@@ -49,18 +49,19 @@ def _on_arrays_only(generic):
 
 
 def install():
+    """Take the three out; what a Numba or llvmlite version does not have is
+    left alone (each lives in their internals)."""
     # Numba's modules each keep the one scheme object (errors.termcolor()):
     # its methods are replaced on that object.
     scheme = errors.termcolor()
     for name in ("code", "errmsg", "filename", "indicate", "highlight", "reset"):
         setattr(scheme, name, _as_is)
-    operator = npydecl.NumpyRulesArrayOperator
-    if not hasattr(operator.generic, "numbas_own"):
+    operator = getattr(npydecl, "NumpyRulesArrayOperator", None)
+    if operator is not None and not hasattr(operator.generic, "numbas_own"):
         operator.generic = _on_arrays_only(operator.generic)
-    lock = ffi.lib._lock
-    for callbacks in list(lock._cblist):
-        if callbacks[0].__qualname__.startswith("_initialize_llvm_lock_event"):
+    lock = getattr(ffi.lib, "_lock", None)
+    for callbacks in list(getattr(lock, "_cblist", ())):
+        if getattr(callbacks[0], "__qualname__", "").startswith("_initialize_llvm_lock_event"):
             lock.unregister(*callbacks)
-
 
 install()
