@@ -1,9 +1,9 @@
 """kernel/typing_costs.py: what it takes out of Numba's compiler, and that the
 types Numba infers are the ones it inferred before."""
 import itertools
+import operator
 
 import numpy as np
-import operator
 import pytest
 from llvmlite.binding import ffi
 from numba import njit, types

@@ -1,5 +1,5 @@
 """Three costs of Numba's compiler that buy this package nothing, taken out once
-before anything is compiled (kernel/jit.py imports this first).
+before anything is compiled (kernel/jit.py imports it).
 
 Type inference tries templates until one fits, and a failed try is cheap only
 in principle:
@@ -15,7 +15,6 @@ in principle:
   for the operand types and only then notice that no operand is an array and
   decline.  Here they decline before the search: the same answer (None), so
   every type, and every bit of code, is what Numba made before.
-
 - **An event per call into LLVM.**  Numba has llvmlite's lock call it back on
   every acquire and release, to broadcast a "numba:llvm_lock" event to each
   compile's timer (one per level of nested compiles): tens of thousands of
