@@ -75,3 +75,53 @@ def test_no_event_per_call_into_llvm():
     typing_costs.install()                                      # twice: no harm
     _, numbas_own = _both_templates(operator.add)
     assert not hasattr(numbas_own, "numbas_own")                # not wrapped twice
+
+
+def _ir_of(fn):
+    """The untyped IR of a Python function, as Numba's front end makes it."""
+    from numba.core import compiler
+    return compiler.run_frontend(fn)
+
+
+def _kitchen_sink(a, b, n, *rest):
+    total = 0.0
+    pairs = [(i, i * 2) for i in range(n)]
+    for i, j in pairs:
+        if i % 2 and j > a[0]:
+            total += a[i] * b[j, 0]
+        elif i > 3:
+            break
+        else:
+            a[i] = np.sqrt(abs(total)) + max(i, j, key=None)
+    t = (a, b, total, *rest)
+    d = {"x": total, "y": n}
+    try:
+        total += d["x"] / n
+    except ZeroDivisionError:
+        raise ValueError("n")
+    return t[2], np.zeros(shape=(n, 2), dtype=np.float64), total if total > 0 else -total
+
+
+def test_variables_are_listed_as_numba_lists_them(monkeypatch):
+    """Every liveness and use-def analysis asks each statement for its
+    variables: the faster walk gives the same Var objects in the same order."""
+    from numba.core import ir
+    from rtweekend.path import bvh
+    from rtweekend.path.integrators import path
+    assert ir.Inst._rec_list_vars is typing_costs._vars_in        # installed
+    statements = [stmt for fn in (_kitchen_sink, path.trace.py_func,
+                                  bvh.stackless_walk.py_func)
+                  for block in _ir_of(fn).blocks.values() for stmt in block.body]
+    loc = ir.Loc("f", 1)
+    scope = ir.Scope(None, loc)
+    x, y, z = (ir.Var(scope, name, loc) for name in "xyz")
+    # values nested in lists, tuples and dicts, and an instruction of a kind
+    # that lists its own (Yield: its value only)
+    nested = ir.Expr.build_tuple([x, (y, [z, {"k": x}])], loc)
+    statements += [ir.Assign(nested, y, loc), ir.Assign(ir.Yield(z, loc, 0), x, loc)]
+    mine = [[id(v) for v in stmt.list_vars()] for stmt in statements]
+    assert nested.list_vars() == [x, y, z, x]
+    monkeypatch.setattr(ir.Inst, "_rec_list_vars", typing_costs._vars_in.numbas_own)
+    before = [[id(v) for v in stmt.list_vars()] for stmt in statements]
+    assert mine == before
+    assert sum(len(v) > 1 for v in before) > 200          # the IR had variables to list
