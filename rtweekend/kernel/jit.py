@@ -35,7 +35,12 @@ FASTMATH = {"nsz", "arcp", "afn"}
 # error_model='numpy': a division by zero gives inf or nan instead of raising,
 # and no kernel pays for the zero checks.  Every function is compiled with it,
 # steps included, whatever calls them.
-_OPTIONS = dict(fastmath=FASTMATH, error_model="numpy")
+# No function here is called from C through a pointer (a cfunc or a first-class
+# function value): Python calls kernels, host functions and step entries
+# through their wrappers for Python, so none gets the wrapper for C either
+# (one more function per signature to build and optimise).
+_NO_C = dict(no_cfunc_wrapper=True)
+_OPTIONS = dict(fastmath=FASTMATH, error_model="numpy", **_NO_C)
 # A step (jit_step): no reference counting (its callers hold the arrays), no
 # wrappers for Python, compiled into IR for kernels only (step_library.py).
 _STEP_OPTIONS = dict(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True,
@@ -156,7 +161,7 @@ class _InlinedDispatcher(CPUDispatcher):
             names = ", ".join(f"a{i}" for i in range(len(args)))
             space = {"step": self}
             exec(f"def entry({names}):\n    return step({names})\n", space)
-            entries[len(args)] = njit(fastmath=FASTMATH, error_model="numpy")(space["entry"])
+            entries[len(args)] = njit(**_OPTIONS)(space["entry"])
         return entries[len(args)](*args)
 
 
@@ -224,7 +229,7 @@ def jit_host(fn=None, *, nogil=False):
     nogil for one that threads of ours run side by side (kernel/rows.py)."""
     if fn is None:
         return lambda fn: jit_host(fn, nogil=nogil)
-    return _cached(njit(nogil=nogil)(fn))
+    return _cached(njit(nogil=nogil, **_NO_C)(fn))
 
 
 def like(x, value):
