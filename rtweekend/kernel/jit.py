@@ -43,8 +43,7 @@ _NO_C = dict(no_cfunc_wrapper=True)
 _OPTIONS = dict(fastmath=FASTMATH, error_model="numpy", **_NO_C)
 # A step (jit_step): no reference counting (its callers hold the arrays), no
 # wrappers for Python, compiled into IR for kernels only (step_library.py).
-_STEP_OPTIONS = dict(_nrt=False, no_cpython_wrapper=True, no_cfunc_wrapper=True,
-                     fastmath=FASTMATH, error_model="numpy")
+_STEP_OPTIONS = dict(_OPTIONS, _nrt=False, no_cpython_wrapper=True)
 
 
 PACKAGE = Path(__file__).resolve().parent.parent

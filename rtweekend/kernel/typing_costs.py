@@ -64,13 +64,8 @@ def _gather(val, found):
     kind = type(val)
     if kind in _LEAVES:
         return
-    if kind is ir.Var:
-        found.append(val)
-    elif kind is ir.Expr:                   # Expr.list_vars: the walk of its _kws
+    if kind is ir.Expr:                     # Expr.list_vars: the walk of its _kws
         for v in val._kws.values():
-            _gather(v, found)
-    elif kind is list or kind is tuple:
-        for v in val:
             _gather(v, found)
     elif isinstance(val, ir.Var):
         found.append(val)
