@@ -275,3 +275,53 @@ def test_a_reserved_pair_is_a_02_net_and_leaves_the_order_as_it_is():
     stream = _reserved(77, 5, 0, 64)
     assert not np.array_equal(stream[:, 0:2], pts[:, 0:2])
     assert not np.array_equal(stream[:, 0:2], stream[:, 2:4])
+
+
+@njit
+def _requests(pixel, index, seed, pairs):
+    """An estimator's requests in nee's order -- the pixel's point, then per
+    bounce the emitter (stream), the shadow ray's point, a glass's fork, the
+    continuation's point -- as the sampler answers them, and as sobol and rng
+    answer them when asked one by one."""
+    got = np.empty(12)
+    want = np.empty(12)
+    smp = sampler.start(pixel, index, seed, pairs)
+    state = rng.seed_state(pixel, index, seed)
+    got[0], got[1], smp = sampler.next_2d(smp)
+    if pairs > 0:
+        want[0], want[1] = sobol.sample_2d(pixel, index, 0, seed)
+    else:
+        want[0], state = rng.uniform(state)
+        want[1], state = rng.uniform(state)
+    dim = 1
+    for b in range(2):
+        k = 2 + 5 * b
+        got[k], smp = sampler.uniform(smp)
+        want[k], state = rng.uniform(state)
+        got[k + 1], got[k + 2], smp = sampler.next_2d(smp)
+        if dim < pairs:
+            want[k + 1], want[k + 2] = sobol.sample_2d(pixel, index, dim, seed)
+        else:
+            want[k + 1], state = rng.uniform(state)
+            want[k + 2], state = rng.uniform(state)
+        got[k + 3], smp = sampler.fork(smp)
+        if pairs > 0:
+            want[k + 3] = sobol.sample_fork(pixel, index, b, seed)
+        else:
+            want[k + 3], state = rng.uniform(state)
+        dim += 1
+        if k + 4 < 12:
+            got[k + 4], smp = sampler.uniform(smp)
+            want[k + 4], state = rng.uniform(state)
+    return got, want
+
+
+@pytest.mark.parametrize("pairs", [0, 1, 2, 3, 4])
+def test_the_sampler_hands_out_the_pairs_in_order_then_the_stream(pairs):
+    """The sampler draws each Sobol pair ahead of the request for it: the
+    numbers an estimator gets are still pair `dim` of sobol.sample_2d for the
+    first `pairs` 2-D requests and the stream's next numbers after, whatever
+    the stream and the forks drew in between."""
+    for pixel, index, seed in ((0, 0, 0), (4242, 17, 3), (2**40 + 1, 2**33 + 5, 99)):
+        got, want = _requests(pixel, index, seed, pairs)
+        assert np.array_equal(got, want), (pixel, index, seed)
