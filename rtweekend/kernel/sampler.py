@@ -26,7 +26,7 @@ Each Sobol pair is drawn one request ahead (the sampler carries pair `dim`
 while the estimator works towards asking for it): a pair is a chain of
 dependent hashes and multiplications, some 70 cycles from key to point, and
 asked for at the moment a direction needs it, that chain stalled the path
-(`nee+sobol` ran 6% more samples per second once its pairs were drawn
+(`nee+sobol` ran 5-6% more samples per second once its pairs were drawn
 ahead; benchmarks/results/measurements.md).  The values are the same, drawn
 earlier.
 
