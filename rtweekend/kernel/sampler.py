@@ -117,17 +117,6 @@ def next_2d(smp):
 
 
 @jit_step
-def next_1d(smp):
-    """(u, sampler): the next 1-D point (a Sobol dimension of its own while the
-    counter is below `pairs`, else the stream)."""
-    if smp.dim < smp.pairs:
-        u = sobol.sample_1d(smp.pixel, smp.index, smp.dim, smp.seed)
-        return u, _moved_on(smp, smp.state)
-    u, state = rng.uniform(smp.state)
-    return u, _moved_on(smp, state)
-
-
-@jit_step
 def fork(smp):
     """(u, sampler): the number for a glass's choice -- a Sobol point of its own
     for the first FORKS forks of a path with Sobol pairs, else the stream's
