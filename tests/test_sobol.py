@@ -325,3 +325,29 @@ def test_the_sampler_hands_out_the_pairs_in_order_then_the_stream(pairs):
     for pixel, index, seed in ((0, 0, 0), (4242, 17, 3), (2**40 + 1, 2**33 + 5, 99)):
         got, want = _requests(pixel, index, seed, pairs)
         assert np.array_equal(got, want), (pixel, index, seed)
+
+
+@njit
+def _answers(pixel, index, seed, pairs):
+    """Every kind of request, in turn, as the sampler answers it."""
+    out = np.empty(14)
+    smp = sampler.start(pixel, index, seed, pairs)
+    for b in range(2):
+        k = 7 * b
+        out[k], out[k + 1], smp = sampler.next_2d(smp)
+        out[k + 2], smp = sampler.uniform(smp)
+        out[k + 3], smp = sampler.fork(smp)
+        out[k + 4], out[k + 5], smp = sampler.reserved_2d(smp, b)
+        out[k + 6] = 1.0 if sampler.low_discrepancy(smp) else 0.0
+    return out
+
+
+@pytest.mark.parametrize("key", [(0, 0, 0), (4242, 17, 3), (2**40 + 1, 2**33 + 5, 99)])
+def test_a_sampler_without_pairs_is_the_stream_as_with_none_counted(key):
+    """pairs None (a strategy without Sobol pairs: its kernel is compiled
+    without their code) answers every request as pairs 0 does: the stream,
+    number for number; a sampler with pairs answers differently."""
+    without = _answers(*key, None)
+    assert np.array_equal(without, _answers(*key, 0))
+    assert not np.any(without[6::7])
+    assert not np.array_equal(without, _answers(*key, 2))

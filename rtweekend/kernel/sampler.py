@@ -9,11 +9,12 @@ A Sampler is plain data (no allocation, nothing shared): the sample's key, a
 dimension counter, and the state of its independent stream (rng.py).  next_2d
 hands out the pairs of low-discrepancy points in order -- pair `dim` of
 sobol.sample_2d, then the counter moves on -- while the counter is below
-`pairs`; past it (and always when pairs = 0) it returns two numbers of the
-stream.  So an estimator asks for points in the order of its decisions, and
-the strategy says how many get Sobol points (Sampling.sobol_pairs: the +sobol
-strategies cover the position in the pixel and the first bounce's decisions,
-its light samples included).
+`pairs`; past it (and always when pairs is 0 or None) it returns two numbers
+of the stream.  None, a strategy without Sobol pairs, is a type of its own: its
+kernel is compiled without the Sobol code (_below).  So an estimator asks for
+points in the order of its decisions, and the strategy says how many get Sobol
+points (Sampling.sobol_pairs: the +sobol strategies cover the position in the
+pixel and the first bounce's decisions, its light samples included).
 Draws where stratification gains nothing (Russian roulette, the emitter
 picked for a shadow ray) take the stream with uniform().  A glass's choice
 between reflection and refraction is a fork: behind a glass the two branches
@@ -46,7 +47,8 @@ class Sampler(NamedTuple):
     index: np.int64
     seed: np.int64
     dim: np.int64          # the next pair of low-discrepancy points
-    pairs: np.int64        # how many pairs are low-discrepancy (the rest: the stream)
+    pairs: np.int64        # how many pairs are low-discrepancy (the rest: the stream);
+    #                        None: none, compiled so (_below)
     state: np.uint64       # the independent stream (rng.py)
     forks: np.int64        # the glass choices made so far (fork)
     ahead1: np.float64     # Sobol pair `dim`, drawn one request ahead (0 past `pairs`)
@@ -61,9 +63,35 @@ RESERVED = 64
 
 
 @jit_step
+def _below(i, pairs):
+    """i < pairs.  pairs None: False, known when compiling -- a strategy without
+    Sobol pairs gets a kernel without their code, and without the values only
+    that code reads (the key, the counter, the pair drawn ahead), which its
+    path loop would otherwise carry: 3% of `lightpath`'s time, 1.4% of
+    `mixture`'s (benchmarks/results/measurements.md)."""
+    if pairs is None:
+        return False
+    return i < pairs
+
+
+@jit_step
+def _any(pairs):
+    """Has the sampler Sobol pairs at all?"""
+    return _below(0, pairs)
+
+
+@jit_step
+def _count(pairs):
+    """pairs as the Sampler holds it: int64, or None."""
+    if pairs is None:
+        return None
+    return np.int64(pairs)
+
+
+@jit_step
 def _ahead(pixel, index, dim, seed, pairs):
     """Sobol pair `dim` if it is one the sample will use, else nothing (zeros)."""
-    if dim < pairs:
+    if _below(dim, pairs):
         return sobol.sample_2d(pixel, index, dim, seed)
     return 0.0, 0.0
 
@@ -73,7 +101,7 @@ def start(pixel, index, seed, pairs):
     """The sampler of sample `index` of `pixel`."""
     a1, a2 = _ahead(pixel, index, 0, seed, pairs)
     return Sampler(np.int64(pixel), np.int64(index), np.int64(seed), np.int64(0),
-                   np.int64(pairs), rng.seed_state(pixel, index, seed), np.int64(0), a1, a2)
+                   _count(pairs), rng.seed_state(pixel, index, seed), np.int64(0), a1, a2)
 
 
 @jit_step
@@ -103,13 +131,13 @@ def uniform(smp):
 @jit_step
 def low_discrepancy(smp):
     """Is the next 2-D point a Sobol pair?"""
-    return smp.dim < smp.pairs
+    return _below(smp.dim, smp.pairs)
 
 
 @jit_step
 def next_2d(smp):
     """(u1, u2, sampler): the next 2-D point."""
-    if smp.dim < smp.pairs:
+    if _below(smp.dim, smp.pairs):
         return smp.ahead1, smp.ahead2, _moved_on(smp, smp.state)
     u1, state = rng.uniform(smp.state)
     u2, state = rng.uniform(state)
@@ -121,7 +149,7 @@ def fork(smp):
     """(u, sampler): the number for a glass's choice -- a Sobol point of its own
     for the first FORKS forks of a path with Sobol pairs, else the stream's
     next number."""
-    if smp.pairs > 0 and smp.forks < FORKS:
+    if _any(smp.pairs) and smp.forks < FORKS:
         u = sobol.sample_fork(smp.pixel, smp.index, smp.forks, smp.seed)
         return u, Sampler(smp.pixel, smp.index, smp.seed, smp.dim, smp.pairs, smp.state,
                           smp.forks + 1, smp.ahead1, smp.ahead2)
@@ -137,7 +165,7 @@ def reserved_2d(smp, k):
     else two numbers of the stream.  For a decision each sample makes at most
     once, wherever it falls in the order: bdpt's manifold connection
     (integrators/through_glass.py)."""
-    if smp.pairs > 0:
+    if _any(smp.pairs):
         u1, u2 = sobol.sample_2d(smp.pixel, smp.index, RESERVED + k, smp.seed)
         return u1, u2, smp
     u1, state = rng.uniform(smp.state)

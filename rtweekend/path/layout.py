@@ -132,7 +132,8 @@ class PathParams(NamedTuple):
     max_depth: int         # ray segments per path
     light_weight: float    # the mixture's share of light sampling (pdf.py)
     clamp: float           # cap on each sample's channels; inf: none
-    pairs: int             # Sobol pairs per sample (kernel/sampler.py); 0: the stream only
+    pairs: int             # Sobol pairs per sample (kernel/sampler.py); None: the stream
+    #                        only, and a kernel compiled without the Sobol points' code
     # bdpt's strategy (s, t) alone and unweighted, pbrt's per-strategy images
     # (integrators/bdpt.py; set by tests); -1: all of them, weighted by MIS.
     only_s: int = -1

@@ -72,7 +72,7 @@ def freeze(scene, options, stand_in=False):
     params = PathParams(cam=pack_camera(camera), width=camera.width, height=camera.height,
                         seed=options.seed, max_depth=max_depth,
                         light_weight=strategy.light_weight if len(listed(arrays)) else 0.0,
-                        clamp=options.clamp_value, pairs=strategy.sobol_pairs)
+                        clamp=options.clamp_value, pairs=strategy.sobol_pairs or None)
     features = Features(None, *pack_features(scene, arrays))._replace(
         **needs.features(strategy, scene, arrays))
     needs.check(options.sampling, arrays)
