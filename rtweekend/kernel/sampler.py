@@ -10,8 +10,8 @@ dimension counter, and the state of its independent stream (rng.py).  next_2d
 hands out the pairs of low-discrepancy points in order -- pair `dim` of
 sobol.sample_2d, then the counter moves on -- while the counter is below
 `pairs`; past it (and always when pairs is 0 or None) it returns two numbers
-of the stream.  None, a strategy without Sobol pairs, is a type of its own: its
-kernel is compiled without the Sobol code (_below).  So an estimator asks for
+of the stream.  None, a strategy without Sobol pairs, is known when compiling:
+its kernel has none of the Sobol code (_below).  So an estimator asks for
 points in the order of its decisions, and the strategy says how many get Sobol
 points (Sampling.sobol_pairs: the +sobol strategies cover the position in the
 pixel and the first bounce's decisions, its light samples included).
@@ -47,8 +47,7 @@ class Sampler(NamedTuple):
     index: np.int64
     seed: np.int64
     dim: np.int64          # the next pair of low-discrepancy points
-    pairs: np.int64        # how many pairs are low-discrepancy (the rest: the stream);
-    #                        None: none, compiled so (_below)
+    pairs: np.int64        # how many pairs are low-discrepancy (the rest: the stream)
     state: np.uint64       # the independent stream (rng.py)
     forks: np.int64        # the glass choices made so far (fork)
     ahead1: np.float64     # Sobol pair `dim`, drawn one request ahead (0 past `pairs`)
@@ -64,27 +63,28 @@ RESERVED = 64
 
 @jit_step
 def _below(i, pairs):
-    """i < pairs.  pairs None: False, known when compiling -- a strategy without
-    Sobol pairs gets a kernel without their code, and without the values only
-    that code reads (the key, the counter, the pair drawn ahead), which its
-    path loop would otherwise carry: 3% of `lightpath`'s time, 1.4% of
-    `mixture`'s (benchmarks/results/measurements.md)."""
-    if pairs is None:
-        return False
-    return i < pairs
+    """i < pairs, for a counter i >= 0, written so that pairs 0 alone decides it:
+    start() makes `pairs` the constant 0 for a strategy without Sobol pairs
+    (None), which LLVM carries through the path's loop once every step is
+    inlined, so the kernel drops the Sobol code and the values only it reads
+    (the key, the counter, the pair drawn ahead) instead of carrying them
+    round every bounce: 3% of `lightpath`'s time, 1.4% of `mixture`'s
+    (benchmarks/results/measurements.md).  The Sampler's type stays one: the
+    steps that take it compile once for both kinds of strategy."""
+    return pairs > 0 and i < pairs
 
 
 @jit_step
 def _any(pairs):
     """Has the sampler Sobol pairs at all?"""
-    return _below(0, pairs)
+    return pairs > 0
 
 
 @jit_step
 def _count(pairs):
-    """pairs as the Sampler holds it: int64, or None."""
+    """pairs as the Sampler holds it: None (no Sobol pairs) is the constant 0."""
     if pairs is None:
-        return None
+        return np.int64(0)
     return np.int64(pairs)
 
 
@@ -99,7 +99,7 @@ def _ahead(pixel, index, dim, seed, pairs):
 @jit_step
 def start(pixel, index, seed, pairs):
     """The sampler of sample `index` of `pixel`."""
-    a1, a2 = _ahead(pixel, index, 0, seed, pairs)
+    a1, a2 = _ahead(pixel, index, 0, seed, _count(pairs))
     return Sampler(np.int64(pixel), np.int64(index), np.int64(seed), np.int64(0),
                    _count(pairs), rng.seed_state(pixel, index, seed), np.int64(0), a1, a2)
 
