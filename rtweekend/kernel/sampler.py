@@ -68,9 +68,9 @@ def _below(i, pairs):
     (None), which LLVM carries through the path's loop once every step is
     inlined, so the kernel drops the Sobol code and the values only it reads
     (the key, the counter, the pair drawn ahead) instead of carrying them
-    round every bounce: 3% of `lightpath`'s time, 1.4% of `mixture`'s
-    (benchmarks/results/measurements.md).  The Sampler's type stays one: the
-    steps that take it compile once for both kinds of strategy."""
+    round every bounce (what that was worth: benchmarks/results/measurements.md).
+    The Sampler's type stays one: the steps that take it compile once for both
+    kinds of strategy."""
     return pairs > 0 and i < pairs
 
 
