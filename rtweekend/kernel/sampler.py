@@ -63,7 +63,8 @@ RESERVED = 64
 
 @jit_step
 def _below(i, pairs):
-    """i < pairs, for a counter i >= 0, written so that pairs 0 alone decides it:
+    """i < pairs, for a counter i >= 0, compared unsigned so that pairs 0 alone
+    decides it (nothing is below 0) at no cost to a strategy with pairs:
     start() makes `pairs` the constant 0 for a strategy without Sobol pairs
     (None), which LLVM carries through the path's loop once every step is
     inlined, so the kernel drops the Sobol code and the values only it reads
@@ -71,7 +72,7 @@ def _below(i, pairs):
     round every bounce (what that was worth: benchmarks/results/measurements.md).
     The Sampler's type stays one: the steps that take it compile once for both
     kinds of strategy."""
-    return pairs > 0 and i < pairs
+    return np.uint64(i) < np.uint64(pairs)
 
 
 @jit_step
