@@ -4,9 +4,10 @@
                                         [--seconds 20] [--no-yardstick]
 
 Each side runs in a process of its own -- one thread, an empty Numba cache,
-Numba's line tables on (NUMBA_DEBUGINFO=1: the optimised code keeps its
-shape, only its debug records are added) -- rendering 300x300 passes of two
-samples under `perf record` for --seconds.  A kernel is one machine-code
+Numba's debug records on (NUMBA_DEBUGINFO=1) but not what Numba's debug mode
+does besides (keeping_the_code below), so that the optimised code keeps its
+shape -- rendering 300x300 passes of two samples under `perf record` for
+--seconds.  A kernel is one machine-code
 function with every step inlined, so a symbol says nothing: each sampled
 address is looked up in the library that holds it, emitted again as an object
 file (the JIT's own code, byte for byte but for relocated operands), and
@@ -147,8 +148,33 @@ def function_at(frame):
     return short
 
 
+def keeping_the_code():
+    """Numba's debug mode also marks every function noinline (but those that
+    must be inlined) and keeps variables alive to the end of their blocks:
+    the yardstick, whose helpers LLVM inlines, then ran 1.84x the
+    instructions per sample, rtweekend 1.73x (counted under callgrind).
+    Undone here, only the debug records stay: the same instruction counts as
+    without them, to a few in a million."""
+    from numba.core import cpu, lowering
+    finalize, pre_lower = cpu.CPUTargetOptions.finalize, lowering.Lower.pre_lower
+
+    def plain_finalize(self, flags, options):
+        flags.dbg_extend_lifetimes = False
+        finalize(self, flags, options)
+
+    def inlinable_pre_lower(self):
+        marked = "noinline" in self.builder.function.attributes
+        pre_lower(self)
+        if not marked:
+            self.builder.function.attributes.discard("noinline")
+
+    cpu.CPUTargetOptions.finalize = plain_finalize
+    lowering.Lower.pre_lower = inlinable_pre_lower
+
+
 def profile_here(side, scene, sampling, seconds):
     """The child process's work: render under perf, attribute, print JSON."""
+    keeping_the_code()
     render = workload(side, scene, sampling)
     symbols = jit_symbols()
     starts = [a for a, _ in symbols]

@@ -399,3 +399,34 @@ def test_meshes_benchmark_quick(tmp_path):
         if "embree_hit_fraction" in row:       # the same rays meet the same mesh
             assert abs(row["embree_hit_fraction"] - row["hit_fraction"]) < 0.01
     assert data["whole"]["rtweekend_wall_s"] > 0
+
+
+def test_profile_kernel_keeps_the_code_numba_debug_mode_changes(tmp_path):
+    """Debug records without the rest of Numba's debug mode: a helper is still
+    inlined into its caller (the profiled code is the one that runs).  In a
+    process of its own: the change is to Numba, for the whole process."""
+    code = """
+import sys, numba
+sys.path.insert(0, sys.argv[1])
+import profile_kernel
+if sys.argv[2] == "keep":
+    profile_kernel.keeping_the_code()
+@numba.njit
+def half(x):
+    return 0.5 * x
+@numba.njit
+def quarter(x):
+    return half(half(x))
+assert quarter(8.0) == 2.0
+ir = next(iter(quarter.inspect_llvm().values()))
+print(sum("call" in line and "4half" in line for line in ir.splitlines()))
+"""
+    calls = {}
+    for mode in ("stock", "keep"):
+        env = dict(os.environ, NUMBA_DEBUGINFO="1", NUMBA_CACHE_DIR=str(tmp_path / mode))
+        r = subprocess.run([sys.executable, "-c", code, str(REPO / "benchmarks"), mode],
+                           capture_output=True, text=True, timeout=300, env=env)
+        assert r.returncode == 0, r.stderr
+        calls[mode] = int(r.stdout.split()[-1])
+    assert calls["stock"] > 0       # Numba's debug mode: the helper stays a call
+    assert calls["keep"] == 0

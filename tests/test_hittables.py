@@ -294,6 +294,10 @@ def test_axis_rect_and_general_rect_agree(kind, flip, bvh):
     row = np.zeros_like(axis.obj_f[0])
     rect.pack(np.add(q, shape.offset), *((v, u) if flip else (u, v)), row)
     general = axis._replace(obj_i=np.array([[RECT, 0]]), obj_f=row[None, :])
+    if general.kind_first is not None:      # no hierarchy: searched kind by kind
+        from rtweekend.path.bvh import sorted_by_kind
+        prims, first = sorted_by_kind(general.obj_i, general.bvh_prims)
+        general = general._replace(bvh_prims=prims, kind_first=first)
     rng = np.random.default_rng(7)
     lo, hi = shapes.bounds(axis.obj_i[0, 0], axis.obj_f[0])
     hits = 0

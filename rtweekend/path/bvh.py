@@ -4,8 +4,8 @@ distance (unoccluded), over a bounding volume hierarchy built once per scene.
 The hierarchy is built binary (bvh_build.py: the binned surface-area
 heuristic, pbrt's BVHAggregate, Wald 2007) and collapsed into 4-wide nodes,
 which both searches walk nearer children first (wide_bvh.py).  A scene too
-small for a hierarchy (fewer than BVH_MIN_OBJECTS) tests every object, in
-the single loop of stackless_walk with no nodes.
+small for a hierarchy (fewer than BVH_MIN_OBJECTS) tests every object, kind
+by kind (kind_walk).
 
 stackless_walk also walks the binary tree itself, by the nodes' "miss" links
 -- nodes in depth-first order, so a node's left child is the next node and its
@@ -21,7 +21,7 @@ bvh_box[i]  = (min x, y, z, max x, y, z)
 bvh_node[i] = (first, count, miss): a leaf holds objects bvh_prims[first:first+count];
               an inner node has count 0 and its right child as `first` (its left
               one is i + 1).  Without a hierarchy (no nodes), bvh_prims lists every
-              object once.
+              object once (sorted by kind, for kind_walk: SceneArrays.kind_first).
 The renderer keeps no binary nodes once the tree is 4-wide; the tests and the
 float32 probe (benchmarks/precision.py) walk it this way, as a reference.
 """
@@ -33,7 +33,8 @@ from ..kernel.jit import jit_step, like
 from ..kernel.vec3 import reciprocal
 from . import shapes, wide_bvh
 from .bvh_build import build_bvh, object_bounds  # noqa: F401  (the builder)
-from .layout import NO_HIT
+from .layout import (BOX, NO_HIT, OBJ_KIND, PRIMITIVE_KINDS, RECT, SPHERE, TRIANGLE, XY_RECT,
+                     XZ_RECT, YZ_RECT)
 
 INF = math.inf
 NON_NEGATIVE = 0x7FFFFFFFFFFFFFFF
@@ -48,6 +49,15 @@ def empty_bvh(n_objects, ids=None):
     return (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64),
             np.arange(n_objects, dtype=np.int64) if ids is None
             else np.asarray(ids, dtype=np.int64))
+
+
+def sorted_by_kind(obj_i, prims):
+    """(prims sorted by kind, in index order within a kind; kind_first) for
+    kind_walk: bvh_prims[kind_first[K]:kind_first[K + 1]] are the kind K ones."""
+    kinds = obj_i[prims, OBJ_KIND]
+    order = np.argsort(kinds, kind="stable")
+    first = np.searchsorted(kinds[order], np.arange(len(PRIMITIVE_KINDS) + 1))
+    return np.asarray(prims, dtype=np.int64)[order], first.astype(np.int64)
 
 
 @jit_step
@@ -82,17 +92,21 @@ def closest_hit(scene, o, d, t_max, from_obj, from_inside, time):
 
     A scene with a hierarchy walks it 4-wide, nearer children first
     (wide_bvh.py: faster than the binary tree's stackless walk, by
-    benchmarks/results/measurements.md); a small one tests every object
-    (stackless_walk with no nodes).  Which runs is decided when compiling
-    (scene.wide is None or not), and only that one is compiled.
+    benchmarks/results/measurements.md); a small one tests every object,
+    kind by kind (kind_walk); arrays with binary nodes and neither (the
+    tests' reference) walk those (stackless_walk).  Which runs is decided
+    when compiling (scene.wide, scene.kind_first None or not), and only that
+    one is compiled.
     """
-    return _walk(scene, scene.wide, scene.tris, o, d, t_max, from_obj, from_inside, time,
-                 False)
+    return _walk(scene, scene.wide, scene.tris, scene.kind_first, o, d, t_max, from_obj,
+                 from_inside, time, False)
 
 
 @jit_step
-def _walk(scene, wide, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
+def _walk(scene, wide, tris, kind_first, o, d, t_max, from_obj, from_inside, time, first_hit):
     if wide is None:
+        if kind_first is not None:
+            return kind_walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit)
         return stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, first_hit)
     return wide_bvh.walk(scene, wide, tris, o, d, t_max, from_obj, from_inside, time,
                          first_hit)
@@ -135,6 +149,54 @@ def stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, first_hit):
 
 
 @jit_step
+def kind_walk(scene, tris, o, d, t_max, from_obj, from_inside, time, first_hit):
+    """closest_hit's search in a scene without hierarchy: every object, kind by
+    kind (bvh_prims sorted by kind, kind_first where each kind starts), each
+    kind in a loop of its own that holds its test alone: no dispatch on the
+    kind per object, which cost as much as the books' rects' own tests
+    (benchmarks/results/measurements.md).  Of equal distances, the object
+    tested first wins (as in any walk: the hierarchy's too)."""
+    # Written out, not a loop over the kinds: each call's kind a constant.
+    b = np.int64(NO_HIT)
+    b, t_max = _of_kind(scene, np.int64(XZ_RECT), o, d, t_max, b, from_obj, from_inside,
+                        time, first_hit)
+    b, t_max = _of_kind(scene, np.int64(YZ_RECT), o, d, t_max, b, from_obj, from_inside,
+                        time, first_hit)
+    b, t_max = _of_kind(scene, np.int64(XY_RECT), o, d, t_max, b, from_obj, from_inside,
+                        time, first_hit)
+    b, t_max = _of_kind(scene, np.int64(SPHERE), o, d, t_max, b, from_obj, from_inside,
+                        time, first_hit)
+    b, t_max = _of_kind(scene, np.int64(BOX), o, d, t_max, b, from_obj, from_inside, time,
+                        first_hit)
+    b, t_max = _of_kind(scene, np.int64(RECT), o, d, t_max, b, from_obj, from_inside, time,
+                        first_hit)
+    if tris is not None:
+        b, t_max = _of_kind(scene, np.int64(TRIANGLE), o, d, t_max, b, from_obj, from_inside,
+                            time, first_hit)
+    return b, t_max
+
+
+@jit_step
+def _of_kind(scene, kind, o, d, t_max, best, from_obj, from_inside, time, first_hit):
+    """(best, t_max) after the objects of `kind` (an int64, not a literal: one
+    compile, each constant kind folded by LLVM once inlined); with first_hit,
+    nothing more once an object was met."""
+    if first_hit and best != NO_HIT:
+        return best, t_max
+    prims = scene.bvh_prims
+    for j in range(scene.kind_first[kind], scene.kind_first[kind + 1]):
+        # Indices are >= 0: saying so spares the test for a negative one.
+        k = prims[j & NON_NEGATIVE] & NON_NEGATIVE
+        t = shapes.distance_as(scene, kind, k, o, d, t_max, from_obj, from_inside, time)
+        if t < t_max:
+            t_max = t
+            best = k
+            if first_hit:
+                break
+    return best, t_max
+
+
+@jit_step
 def nearest_in_leaf(scene, bvh_prims, first, count, o, d, t_max, best, from_obj, from_inside,
                     time, first_hit):
     """(best, t_max) after testing the objects bvh_prims[first:first+count]:
@@ -158,6 +220,6 @@ def unoccluded(scene, o, d, t_max, from_obj, from_inside, time):
     visibility of a connection between two points; what a ray leaving object
     from_obj may meet, as for closest_hit.)  closest_hit's walk, stopped at
     the first object met: any one blocks the segment."""
-    k, _ = _walk(scene, scene.wide, scene.tris, o, d, t_max, from_obj, from_inside, time,
-                 True)
+    k, _ = _walk(scene, scene.wide, scene.tris, scene.kind_first, o, d, t_max, from_obj,
+                 from_inside, time, True)
     return k == NO_HIT

@@ -99,6 +99,10 @@ class SceneArrays(NamedTuple):
     # True where a material of the scene is glossy (materials/flags.py), None
     # else: then the kernels compile none of the glossy materials' code.
     glossy: object = None
+    # A scene without hierarchy (wide None, no nodes): int64 [len(PRIMITIVE_KINDS)
+    # + 1], bvh_prims[kind_first[K]:kind_first[K + 1]] its objects of kind K
+    # (bvh.kind_walk); None else.
+    kind_first: object = None
 
 
 class WideBVH(NamedTuple):

@@ -171,7 +171,7 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
     bg_kind, bg = pack_background(scene.resolved_background())
     surfaces = np.flatnonzero(~objects_with(obj_i, mat_i, MEDIUM))
     ids = None if len(surfaces) == len(obj_i) else surfaces
-    wide = None
+    wide = kind_first = None
     if bvh and len(surfaces) and stand_in:
         wide = WideBVH(*wide_bvh.empty())
         tree = hierarchy.empty_bvh(0)
@@ -187,12 +187,14 @@ def pack_scene(scene, bvh=None, *, stand_in=False):
         tree = (np.zeros((0, 6)), np.zeros((0, 3), dtype=np.int64), tree[2])
     else:
         tree = hierarchy.empty_bvh(len(obj_i), ids)
+        prims, kind_first = hierarchy.sorted_by_kind(obj_i, tree[2])
+        tree = (*tree[:2], prims)
     mat_f = mat_f.reshape(-1, MAT_FLOATS)
     mesh_lights = [(first[id(s)], s.primitives) for s in scene.lights if s.kind == "mesh"]
     return SceneArrays(obj_i, obj_f, mat_i, mat_f, np.zeros((0, 4)),
                        *pack_lights(obj_i, obj_f, mat_i, mat_f, lights), bg_kind, bg, *tree,
                        tris.arrays(obj_f, mesh_lights), wide,
-                       True if (KIND_FLAGS[mat_i] & GLOSSY).any() else None)
+                       True if (KIND_FLAGS[mat_i] & GLOSSY).any() else None, kind_first)
 
 
 def _params(material):

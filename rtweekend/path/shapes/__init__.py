@@ -68,7 +68,14 @@ def light_parts(kind, row):
 @jit_step
 def distance(scene, k, o, d, t_max, from_obj, from_inside, time):
     """Distance to object k for a ray leaving object from_obj (NO_HIT: none)."""
-    kind = scene.obj_i[k, OBJ_KIND]
+    return distance_as(scene, scene.obj_i[k, OBJ_KIND], k, o, d, t_max, from_obj, from_inside,
+                       time)
+
+
+@jit_step
+def distance_as(scene, kind, k, o, d, t_max, from_obj, from_inside, time):
+    """distance, for object k of the given kind: called with a constant kind
+    (bvh.kind_walk), LLVM keeps that kind's test alone."""
     f = scene.obj_f
     from_self = k == from_obj
     if kind == XZ_RECT:
