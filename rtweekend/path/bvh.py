@@ -140,8 +140,8 @@ def stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, first_hit):
         else:
             i = bvh_node[i, 2]
             continue
-        best, t_max = nearest_in_leaf(scene, bvh_prims, first, count, o, d, t_max, best,
-                                      from_obj, from_inside, time, first_hit)
+        best, t_max = nearest_in_leaf(scene, first, first + count, np.int64(-1), o, d, t_max,
+                                      best, from_obj, from_inside, time, first_hit)
         if first_hit and best != NO_HIT:
             return best, t_max
         i = after
@@ -183,29 +183,23 @@ def _of_kind(scene, kind, o, d, t_max, best, from_obj, from_inside, time, first_
     nothing more once an object was met."""
     if first_hit and best != NO_HIT:
         return best, t_max
-    prims = scene.bvh_prims
-    for j in range(scene.kind_first[kind], scene.kind_first[kind + 1]):
-        # Indices are >= 0: saying so spares the test for a negative one.
-        k = prims[j & NON_NEGATIVE] & NON_NEGATIVE
-        t = shapes.distance_as(scene, kind, k, o, d, t_max, from_obj, from_inside, time)
-        if t < t_max:
-            t_max = t
-            best = k
-            if first_hit:
-                break
-    return best, t_max
+    return nearest_in_leaf(scene, scene.kind_first[kind], scene.kind_first[kind + 1], kind, o,
+                           d, t_max, best, from_obj, from_inside, time, first_hit)
 
 
 @jit_step
-def nearest_in_leaf(scene, bvh_prims, first, count, o, d, t_max, best, from_obj, from_inside,
-                    time, first_hit):
-    """(best, t_max) after testing the objects bvh_prims[first:first+count]:
-    the nearest hit before t_max, or with first_hit the first one met."""
-    for j in range(first, first + count):
-        # An object index is >= 0: saying so spares every array access the
-        # test for a negative index (Python's a[-1]).
-        k = bvh_prims[j] & NON_NEGATIVE
-        t = shapes.distance(scene, k, o, d, t_max, from_obj, from_inside, time)
+def nearest_in_leaf(scene, first, end, kind, o, d, t_max, best, from_obj, from_inside, time,
+                    first_hit):
+    """(best, t_max) after testing the objects scene.bvh_prims[first:end]: the
+    nearest hit before t_max, or with first_hit the first one met.  kind: the
+    kind they all are (kind_walk), or -1: each its own (a leaf)."""
+    bvh_prims = scene.bvh_prims
+    for j in range(first, end):
+        # Indices are >= 0: saying so spares every array access the test for a
+        # negative index (Python's a[-1]).
+        k = bvh_prims[j & NON_NEGATIVE] & NON_NEGATIVE
+        t = shapes.distance_as(scene, kind if kind >= 0 else scene.obj_i[k, OBJ_KIND], k, o, d,
+                               t_max, from_obj, from_inside, time)
         if t < t_max:
             t_max = t
             best = k
