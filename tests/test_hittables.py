@@ -438,3 +438,36 @@ def test_the_bounds_padding_in_numpy_is_the_compiled_pads_bits():
         _pad(compiled, k)
     assert by_numpy.tobytes() == compiled.tobytes()
     assert (by_numpy[1::2] == boxes[1::2]).all() and (by_numpy[::2, :3] < boxes[::2, :3]).all()
+
+
+def test_the_kind_by_kind_search_finds_what_testing_in_index_order_finds():
+    # A small scene (no hierarchy) whose kinds are interleaved in index order:
+    # kind_walk tests them sorted by kind; the nearest hit, and the object a
+    # ray leaves (self-exclusion), must be those of a walk in index order.
+    a = arrays(rt.sphere((0, 1, 0), 1, MAT), rt.xz_rect(-4, 4, -4, 4, 0, MAT),
+               rt.box((1.5, 0, -1), (2.5, 1, 0), MAT).rotate_y(20),
+               rt.yz_rect(0, 3, -4, 4, -3, MAT), rt.sphere((-1.5, 0.5, 1.5), 0.5, MAT),
+               rt.xy_rect(-4, 4, 0, 3, -3.5, MAT).flip_face(),
+               rt.quad((-1, 2, 2), (1, 0, 0.5), (0, 1, 0), MAT), rt.sphere((0, 1, 0), 1.5, MAT))
+    assert a.wide is None and a.kind_first is not None
+    assert list(a.bvh_prims) != sorted(a.bvh_prims)           # the order did change
+    rng = np.random.default_rng(11)
+    hits = 0
+    for i in range(1500):
+        from_obj = int(rng.integers(-1, len(a.obj_i)))
+        o = rng.uniform([-3.5, 0.01, -3.4], [3.5, 2.9, 3.9])
+        d = rng.normal(size=3)
+        d /= np.linalg.norm(d)
+        inside = bool(rng.integers(2))
+        o, d = tuple(float(c) for c in o), tuple(float(c) for c in d)
+        k, t = closest_hit(a, o, d, INF, from_obj, inside, None)
+        best, t_best = NO_HIT, INF
+        for j in range(len(a.obj_i)):
+            tj = shapes.distance(a, j, o, d, t_best, from_obj, inside, None)
+            if tj < t_best:
+                best, t_best = j, tj
+        # t to the last bits: the kernel's inlined division may be a product by
+        # a reciprocal (fastmath's arcp), the lone call's a division
+        assert k == best and (k == NO_HIT or abs(t - t_best) <= 1e-14 * t_best)
+        hits += k != NO_HIT
+    assert hits > 600           # enough of the rays hit something
