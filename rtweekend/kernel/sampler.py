@@ -76,12 +76,6 @@ def _below(i, pairs):
 
 
 @jit_step
-def _any(pairs):
-    """Has the sampler Sobol pairs at all?"""
-    return pairs > 0
-
-
-@jit_step
 def _count(pairs):
     """pairs as the Sampler holds it: None (no Sobol pairs) is the constant 0."""
     if pairs is None:
@@ -100,9 +94,10 @@ def _ahead(pixel, index, dim, seed, pairs):
 @jit_step
 def start(pixel, index, seed, pairs):
     """The sampler of sample `index` of `pixel`."""
-    a1, a2 = _ahead(pixel, index, 0, seed, _count(pairs))
+    n = _count(pairs)
+    a1, a2 = _ahead(pixel, index, 0, seed, n)
     return Sampler(np.int64(pixel), np.int64(index), np.int64(seed), np.int64(0),
-                   _count(pairs), rng.seed_state(pixel, index, seed), np.int64(0), a1, a2)
+                   n, rng.seed_state(pixel, index, seed), np.int64(0), a1, a2)
 
 
 @jit_step
@@ -150,7 +145,7 @@ def fork(smp):
     """(u, sampler): the number for a glass's choice -- a Sobol point of its own
     for the first FORKS forks of a path with Sobol pairs, else the stream's
     next number."""
-    if _any(smp.pairs) and smp.forks < FORKS:
+    if smp.pairs > 0 and smp.forks < FORKS:
         u = sobol.sample_fork(smp.pixel, smp.index, smp.forks, smp.seed)
         return u, Sampler(smp.pixel, smp.index, smp.seed, smp.dim, smp.pairs, smp.state,
                           smp.forks + 1, smp.ahead1, smp.ahead2)
@@ -166,7 +161,7 @@ def reserved_2d(smp, k):
     else two numbers of the stream.  For a decision each sample makes at most
     once, wherever it falls in the order: bdpt's manifold connection
     (integrators/through_glass.py)."""
-    if _any(smp.pairs):
+    if smp.pairs > 0:
         u1, u2 = sobol.sample_2d(smp.pixel, smp.index, RESERVED + k, smp.seed)
         return u1, u2, smp
     u1, state = rng.uniform(smp.state)

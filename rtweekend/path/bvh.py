@@ -114,24 +114,16 @@ def _walk(scene, wide, tris, kind_first, o, d, t_max, from_obj, from_inside, tim
 
 @jit_step
 def stackless_walk(scene, o, d, t_max, from_obj, from_inside, time, first_hit):
-    """The stackless walk described above (every object with an empty BVH):
-    (object, t) of the nearest hit before t_max, or, with first_hit, of the
-    first one met (unoccluded: any object blocks a segment).  closest_hit's in
-    scenes without meshes."""
-    bvh_box, bvh_node, bvh_prims = scene.bvh_box, scene.bvh_node, scene.bvh_prims
+    """The stackless walk of the binary tree described above: (object, t) of
+    the nearest hit before t_max, or, with first_hit, of the first one met
+    (unoccluded: any object blocks a segment).  The tests' reference and the
+    float32 probe's; the renderer walks the tree 4-wide."""
+    bvh_box, bvh_node = scene.bvh_box, scene.bvh_node
     best = np.int64(NO_HIT)     # typed int64, not the literal -1 (see integrators/path.py)
-    # One loop for both cases, so shapes.distance is inlined at one call site
-    # only (each inlined copy costs compile time): no BVH is a single leaf node.
-    no_bvh = bvh_node.shape[0] == 0
-    n_nodes = 1 if no_bvh else bvh_node.shape[0]
-    inv_d = d                   # only the box tests of a hierarchy need 1 / d
-    if not no_bvh:
-        inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
+    inv_d = (reciprocal(d[0]), reciprocal(d[1]), reciprocal(d[2]))
     i = 0
-    while i < n_nodes:
-        if no_bvh:
-            first, count, after = 0, bvh_prims.shape[0], 1
-        elif box_entry(bvh_box, i, o, inv_d, t_max):
+    while i < bvh_node.shape[0]:
+        if box_entry(bvh_box, i, o, inv_d, t_max):
             count = bvh_node[i, 1]
             if count == 0:
                 i += 1                      # inner node: on to its left child
