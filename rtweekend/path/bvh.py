@@ -33,11 +33,10 @@ from ..kernel.jit import jit_step, like
 from ..kernel.vec3 import reciprocal
 from . import shapes, wide_bvh
 from .bvh_build import build_bvh, object_bounds  # noqa: F401  (the builder)
-from .layout import (BOX, NO_HIT, OBJ_KIND, PRIMITIVE_KINDS, RECT, SPHERE, TRIANGLE, XY_RECT,
-                     XZ_RECT, YZ_RECT)
+from .layout import (BOX, NO_HIT, NON_NEGATIVE, OBJ_KIND, PRIMITIVE_KINDS, RECT, SPHERE,
+                     TRIANGLE, XY_RECT, XZ_RECT, YZ_RECT)
 
 INF = math.inf
-NON_NEGATIVE = 0x7FFFFFFFFFFFFFFF
 # From this many primitives on, the BVH beats testing every object (whose loop
 # Numba compiles tightly): measured per scene in benchmarks/results/measurements.md.
 BVH_MIN_OBJECTS = 10
@@ -187,8 +186,6 @@ def nearest_in_leaf(scene, first, end, kind, o, d, t_max, best, from_obj, from_i
     kind they all are (kind_walk), or -1: each its own (a leaf)."""
     bvh_prims = scene.bvh_prims
     for j in range(first, end):
-        # Indices are >= 0: saying so spares every array access the test for a
-        # negative index (Python's a[-1]).
         k = bvh_prims[j & NON_NEGATIVE] & NON_NEGATIVE
         t = shapes.distance_as(scene, kind if kind >= 0 else scene.obj_i[k, OBJ_KIND], k, o, d,
                                t_max, from_obj, from_inside, time)

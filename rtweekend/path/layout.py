@@ -41,6 +41,12 @@ BG_SKY = 1
 # "No object": closest_hit found nothing / a ray that starts at no surface.
 NO_HIT = -1
 
+# An index read from a table, `& NON_NEGATIVE`: the same number (a table's
+# indices are >= 0), which tells LLVM so and spares each array access it
+# reaches the test for a negative index (Python's a[-1]: a shift, a load of the
+# shape, an add).
+NON_NEGATIVE = 0x7FFFFFFFFFFFFFFF
+
 # -- columns -----------------------------------------------------------------------
 
 # light_rows (lights.py): the object, its part (a box's face; -1: the whole), its role

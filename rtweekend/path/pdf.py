@@ -12,7 +12,7 @@ books' lambertian, their cosine_pdf.
 from ..kernel import sampler
 from ..kernel.jit import jit_step
 from . import lights, materials, mesh_light, shapes
-from .layout import LIGHT_OBJ, LISTED
+from .layout import LIGHT_OBJ, LISTED, NON_NEGATIVE
 
 
 @jit_step
@@ -89,8 +89,8 @@ def lights_value(scene, p, d, from_obj, from_inside, time):
     first, end = scene.light_ranges[LISTED, 0], scene.light_ranges[LISTED, 1]
     total = 0.0
     for row in range(first, end):
-        total += density_toward(scene, scene.light_rows[row, LIGHT_OBJ], p, d, from_obj,
-                                from_inside, time)
+        k = scene.light_rows[row & NON_NEGATIVE, LIGHT_OBJ] & NON_NEGATIVE
+        total += density_toward(scene, k, p, d, from_obj, from_inside, time)
     return total / (end - first)
 
 
@@ -134,7 +134,7 @@ def mixture_sample(scene, bsdf, wo, p, from_obj, light_weight, use_lights, smp, 
             v1, smp = sampler.uniform(smp)
             v2, smp = sampler.uniform(smp)
     if light:
-        k = scene.light_rows[row, LIGHT_OBJ]
+        k = scene.light_rows[row & NON_NEGATIVE, LIGHT_OBJ] & NON_NEGATIVE
         return toward_light(scene, k, p, from_obj, v1, v2, time), materials.NO_COLOR, smp
     wi, weight, _, smp = materials.sample_at(bsdf, wo, v1, v2, smp)
     return wi, weight, smp

@@ -21,7 +21,7 @@ from ..kernel.jit import jit_step
 from ..kernel.vec3 import dot, madd
 from . import materials, shapes
 from . import textures as texturing
-from .layout import OBJ_MAT
+from .layout import NON_NEGATIVE, OBJ_MAT
 
 NO_PRIM = -1
 
@@ -51,7 +51,7 @@ def color_of(scene, textures, k, p, uv_from, time):
     """The colour of object k's material at p (albedo, or emitted radiance),
     from its texture if it has one; uv_from: the object whose uv a texture
     reads (k on a surface, NO_HIT inside a medium)."""
-    m = scene.obj_i[k, OBJ_MAT]
+    m = scene.obj_i[k, OBJ_MAT] & NON_NEGATIVE
     color = materials.color(scene, m)
     if textures is not None:
         color = texturing.color_at(scene, textures, m, uv_from, p, color, time)
@@ -68,7 +68,7 @@ def surface_at(scene, textures, k, o, d, t, time):
         n = shapes.shading_normal(scene, scene.tris, k, p, n_out)
         if not front:
             n = (-n[0], -n[1], -n[2])
-    m = scene.obj_i[k, OBJ_MAT]
+    m = scene.obj_i[k, OBJ_MAT] & NON_NEGATIVE
     albedo = materials.color(scene, m)
     uv = (0.0, 0.0)
     if textures is not None:

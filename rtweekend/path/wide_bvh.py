@@ -53,12 +53,11 @@ from ..kernel.stack import stack_array
 from ..kernel.vec3 import reciprocal
 from . import bvh_build, shapes
 from .bvh_build import MEDIAN_FROM_DEPTH
-from .layout import NO_HIT, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, TRIANGLE
+from .layout import NO_HIT, NON_NEGATIVE, OBJ_FLOATS, OBJ_INTS, OBJ_KIND, TRIANGLE
 from .shapes import triangle
 
 INF = math.inf
 WIDTH = 4
-NON_NEGATIVE = 0x7FFFFFFFFFFFFFFF
 COUNT_BITS = 32
 COUNT_MASK = (1 << COUNT_BITS) - 1
 MERGE = 12
