@@ -20,6 +20,19 @@ the same scene and estimator (its lines are known less well: STRING_SOURCE).
 Samples/s here are each side alone, not a ratio (benchmarks/paired.py gives
 that).  Needs Linux perf and binutils (addr2line, nm); says so in one
 line without them.  Writes benchmark-results/profile_kernel.json.
+
+    python benchmarks/profile_kernel.py --count [--passes 8] [--size 64]
+
+counts instead of sampling: each side runs under valgrind's callgrind,
+counting switched on (callgrind_control) around --passes passes of
+size x size x 2 once the kernel is compiled, and every instruction the kernel
+executed is classed by its opcode (floating point, loads from and stores to
+the stack, other moves, jumps, compares, other integer work) and, for
+rtweekend, by the step of its path loop it was inlined from (the callee
+named on the `trace` line of its chain).  Per camera sample, exact and
+repeatable where timings on a shared machine are not.  Needs valgrind
+(with callgrind_control) and binutils (objdump besides); writes
+benchmark-results/profile_kernel_count.json.
 """
 import argparse
 import ast
@@ -44,6 +57,7 @@ from common import parser as bench_parser  # noqa: E402
 
 SIZE, SPP = 300, 2
 TOOLS = ("perf", "addr2line", "nm")
+COUNT_TOOLS = ("valgrind", "callgrind_control", "addr2line", "nm", "objdump")
 MIN_SYMBOL_SHARE = 0.005     # symbols below this share are not looked into
 # The yardstick's prange loop is compiled from generated source: its lines come
 # as "<string>" with the line numbers of the yardstick's file, and the code Numba
@@ -150,16 +164,20 @@ def function_at(frame):
 
 def keeping_the_code():
     """Numba's debug mode also marks every function noinline (but those that
-    must be inlined) and keeps variables alive to the end of their blocks:
-    the yardstick, whose helpers LLVM inlines, then ran 1.84x the
-    instructions per sample, rtweekend 1.73x (counted under callgrind).
+    must be inlined), keeps variables alive to the end of their blocks and
+    checks every array index against its bounds: the yardstick, whose helpers
+    LLVM inlines, then ran 1.84x the instructions per sample, rtweekend 1.73x
+    (counted under callgrind; the bounds checks alone cost rtweekend 1.39x).
     Undone here, only the debug records stay: the same instruction counts as
-    without them, to a few in a million."""
+    without them, to a few in a million.  (A function that asks for bounds
+    checks itself keeps them.)"""
     from numba.core import cpu, lowering
     finalize, pre_lower = cpu.CPUTargetOptions.finalize, lowering.Lower.pre_lower
 
     def plain_finalize(self, flags, options):
         flags.dbg_extend_lifetimes = False
+        if not flags.is_set("boundscheck"):
+            flags.boundscheck = False
         finalize(self, flags, options)
 
     def inlinable_pre_lower(self):
@@ -227,6 +245,208 @@ def profile_here(side, scene, sampling, seconds):
                           inclusive=share(inclusive), leaf=share(leaf))))
 
 
+# -- counting under callgrind ------------------------------------------------------
+
+def _wait_for(path):
+    """Poll for a file (not block: callgrind takes its commands between the
+    program's instructions, so a process asleep in a read would never see them)."""
+    while not path.exists():
+        time.sleep(0.01)
+
+
+def callgrind_costs(path):
+    """{address: instructions} of a callgrind dump made with --dump-instr=yes
+    (its compressed positions: absolute, +/- relative, * the same; a call's
+    cost line, which counts the callee's inclusive cost, left out)."""
+    costs, last, after_call = collections.Counter(), 0, False
+    for line in Path(path).read_text().splitlines():
+        if line.startswith("calls="):
+            after_call = True
+            continue
+        fields = line.split()
+        if len(fields) < 2 or not (fields[0][0] in "+-*" or fields[0].startswith("0x")):
+            continue
+        a = fields[0]
+        position = (int(a, 16) if a.startswith("0x") else last + int(a) if a[0] in "+-"
+                    else last)
+        last = position
+        if after_call:
+            after_call = False
+            continue
+        if fields[-1].isdigit():
+            costs[position] += int(fields[-1])
+    return costs
+
+
+def opcode_class(opcode, operands):
+    """The class of one instruction, as `objdump -d` writes it (AT&T)."""
+    if opcode == "?":
+        return "not disassembled"
+    if "(%rsp)" in operands:
+        return "stack load" if operands.index("(%rsp)") < operands.rfind(",") else "stack store"
+    if opcode.startswith("j"):
+        return "jump"
+    if opcode.startswith("v") and opcode.endswith(("sd", "pd", "ss", "ps")):
+        return "floating point"
+    if opcode.startswith("mov"):
+        return "other move"
+    if opcode in ("cmp", "test"):
+        return "compare"
+    return "other integer"
+
+
+def symbol_size(path, symbol):
+    """The size in bytes of a function of an object file (nm -S)."""
+    table = subprocess.run(["nm", "-S", str(path)], capture_output=True, text=True).stdout
+    for line in table.splitlines():
+        fields = line.split()
+        if len(fields) == 4 and fields[3] == symbol:
+            return int(fields[1], 16)
+    return 0
+
+
+def jit_disassembly(start, end, folder):
+    """{address: (opcode, operands)} of the JIT's own code from start to end
+    in this process (read from its memory: the object file emitted again can
+    encode some instructions otherwise, the yardstick's large code model)."""
+    with open("/proc/self/mem", "rb") as memory:
+        memory.seek(start)
+        code = memory.read(end - start)
+    raw = folder / f"code_{start:x}.bin"
+    raw.write_bytes(code)
+    text = subprocess.run(["objdump", "-D", "-b", "binary", "-m", "i386:x86-64",
+                           "--no-show-raw-insn", f"--adjust-vma={start}", str(raw)],
+                          capture_output=True, text=True).stdout
+    found = {}
+    for line in text.splitlines():
+        head, _, rest = line.partition(":\t")
+        if rest and head.strip() and all(c in "0123456789abcdef" for c in head.strip()):
+            opcode, _, operands = rest.strip().partition(" ")
+            found[int(head.strip(), 16)] = (opcode, operands.strip())
+    return found
+
+
+def count_here(side, scene, sampling, passes, size, signals):
+    """The child's work under callgrind: compile, then passes with counting on
+    (the parent switches it), then attribute the kernel's instructions."""
+    global SIZE
+    SIZE = size
+    keeping_the_code()
+    render = workload(side, scene, sampling)
+    render()
+    (signals / "ready").touch()
+    _wait_for(signals / "go")
+    for _ in range(passes):
+        render()
+    (signals / "done").touch()
+    _wait_for(signals / "bye")
+    costs = callgrind_costs(max(signals.glob("callgrind.out.*"),
+                                key=lambda f: int(f.suffix[1:])))
+    symbols = jit_symbols()
+    starts = [a for a, _ in symbols]
+    by_symbol = collections.defaultdict(dict)
+    for address, n in costs.items():
+        i = bisect.bisect_right(starts, address) - 1
+        if i >= 0 and (i + 1 == len(starts) or address < starts[i + 1]):
+            by_symbol[symbols[i][1]][address - starts[i]] = n
+    samples = passes * size * size * SPP
+    index = {name: i for i, (_, name) in enumerate(symbols)}
+    classes, steps = collections.Counter(), collections.Counter()
+    for symbol, offsets in by_symbol.items():
+        found = object_of(symbol, signals)
+        if found is None:
+            continue
+        path, base = found
+        start, size = starts[index[symbol]], symbol_size(path, symbol)
+        # Addresses past the function's end are another library's (libm, Python).
+        offsets = {o: n for o, n in offsets.items() if o < size}
+        code = jit_disassembly(start, start + size, signals)
+        chains = inline_chains(path, [base + o for o in offsets]) if side == "rtweekend" else {}
+        for offset, n in offsets.items():
+            opcode, operands = code.get(start + offset, ("?", ""))
+            classes[opcode_class(opcode, operands)] += n
+            classes["all"] += n
+            if side == "rtweekend":
+                steps[_step(chains.get(base + offset) or ["?"])] += n
+    per_sample = {k: v / samples for k, v in classes.most_common()}
+    by_step = {k: v / samples for k, v in steps.most_common()}
+    print(json.dumps(dict(samples=samples, per_sample=per_sample, by_step=by_step)))
+
+
+def _step(chain):
+    """The step of the path loop an instruction comes from: the function called
+    on the `trace` line of its chain (trace itself where it is the innermost),
+    or 'outside trace' (the camera ray, the sampler's start, the film)."""
+    names = [function_at(f) for f in chain]
+    for i, name in enumerate(names):
+        if name.endswith(":trace"):
+            return names[i - 1].rpartition(":")[2] if i > 0 else "trace (its own lines)"
+    return "outside trace"
+
+
+def count_side(side, args):
+    """Run the side under callgrind, counting around its passes; its JSON."""
+    env = dict(os.environ, NUMBA_DEBUGINFO="1", NUMBA_NUM_THREADS="1",
+               RTWEEKEND_COMPILE_HELPERS="0")
+    with tempfile.TemporaryDirectory() as tmp:
+        signals = Path(tmp)
+        env["NUMBA_CACHE_DIR"] = str(signals / "cache")
+        child = subprocess.Popen(
+            ["valgrind", "--tool=callgrind", "--instr-atstart=no", "--dump-instr=yes",
+             "--smc-check=all-non-file", f"--callgrind-out-file={signals / 'callgrind.out'}",
+             sys.executable, __file__, "--child", side, "--count", "--scene", args.scene,
+             "--sampling", args.sampling, "--passes", str(args.passes), "--size",
+             str(args.size), "--signals", str(signals)],
+            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            for name, command in (("ready", ["-i", "on"]), ("done", ["-i", "off"]),
+                                  ("done", ["-d"])):
+                while not (signals / name).exists():
+                    if child.poll() is not None:
+                        raise SystemExit(f"profile_kernel: the {side} process failed:\n"
+                                         f"{child.stderr.read()[-2000:]}")
+                    time.sleep(0.1)
+                subprocess.run(["callgrind_control", *command, str(child.pid)],
+                               capture_output=True, check=True)
+                if name == "ready" and command == ["-i", "on"]:
+                    (signals / "go").touch()
+            (signals / "bye").touch()
+            out, err = child.communicate()
+        finally:
+            if child.poll() is None:
+                child.kill()
+        if child.returncode:
+            raise SystemExit(f"profile_kernel: the {side} process failed:\n{err[-2000:]}")
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def count(args):
+    missing = [t for t in COUNT_TOOLS if shutil.which(t) is None]
+    if missing:
+        print(f"profile_kernel: --count needs {', '.join(missing)}; not run")
+        return
+    sides = ["rtweekend"]
+    if not args.no_yardstick and args.scene == "cornell_glass" and args.sampling == "mixture":
+        if yardstick.available():
+            sides.append("yardstick")
+    results = {side: count_side(side, args) for side in sides}
+    classes = list(dict.fromkeys(k for r in results.values() for k in r["per_sample"]))
+    print(f"kernel instructions per camera sample ({args.scene}, {args.sampling}, "
+          f"{args.passes} passes of {args.size}x{args.size}x{SPP}, one thread):")
+    print(f"  {'':16s}" + "".join(f"{side:>12s}" for side in results))
+    for k in classes:
+        print(f"  {k:16s}" + "".join(f"{r['per_sample'].get(k, 0.0):12.0f}"
+                                      for r in results.values()))
+    if "rtweekend" in results:
+        print("rtweekend by step of its path loop:")
+        for k, v in results["rtweekend"]["by_step"].items():
+            print(f"  {v:8.0f}  {k}")
+    path = save_json("profile_kernel_count.json",
+                     dict(machine=machine(), scene=args.scene, sampling=args.sampling,
+                          size=args.size, passes=args.passes, sides=results), args.out)
+    print(f"wrote {path}")
+
+
 def run_side(side, args):
     env = dict(os.environ, NUMBA_DEBUGINFO="1", NUMBA_NUM_THREADS="1",
                RTWEEKEND_COMPILE_HELPERS="0")
@@ -246,10 +466,22 @@ def main():
     p.add_argument("--sampling", default="mixture")
     p.add_argument("--seconds", type=float, default=20.0)
     p.add_argument("--no-yardstick", action="store_true")
+    p.add_argument("--count", action="store_true",
+                   help="count instructions under callgrind instead of sampling time")
+    p.add_argument("--passes", type=int, default=8, help="--count: passes counted")
+    p.add_argument("--size", type=int, default=64, help="--count: the image's side")
     p.add_argument("--child", help=argparse.SUPPRESS)
+    p.add_argument("--signals", help=argparse.SUPPRESS)
     args = p.parse_args()
+    if args.child and args.count:
+        count_here(args.child, args.scene, args.sampling, args.passes, args.size,
+                   Path(args.signals))
+        return
     if args.child:
         profile_here(args.child, args.scene, args.sampling, args.seconds)
+        return
+    if args.count:
+        count(args)
         return
     missing = [t for t in TOOLS if shutil.which(t) is None]
     if missing:

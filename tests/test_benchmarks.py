@@ -344,6 +344,68 @@ def test_profile_kernel_without_perf_says_so_in_one_line(tmp_path):
         "profile_kernel: needs perf, addr2line, nm (Linux perf, binutils); not run"]
 
 
+
+def _profile_kernel():
+    sys.path.insert(0, str(REPO / "benchmarks"))
+    try:
+        import profile_kernel
+    finally:
+        sys.path.remove(str(REPO / "benchmarks"))
+    return profile_kernel
+
+
+def test_profile_kernel_reads_callgrind_instruction_costs(tmp_path):
+    """A dump with --dump-instr=yes compresses positions (absolute, +/-
+    relative to the last, * the same) and follows a `calls=` line with the
+    callee's inclusive cost, which is not the instruction's own."""
+    dump = tmp_path / "callgrind.out.1"
+    dump.write_text("positions: instr line\nevents: Ir\nfn=(1) kernel\n"
+                    "0x7f0000001000 12 3\n+4 * 2\n* +1 5\n-2 * 7\n"
+                    "calls=1 0x7f0000002000 40\n+6 * 1000\n+3 * 1\nsummary: 1018\n")
+    costs = _profile_kernel().callgrind_costs(dump)
+    assert costs == {0x7f0000001000: 3, 0x7f0000001004: 7, 0x7f0000001002: 7,
+                     0x7f000000100b: 1}
+
+
+def test_profile_kernel_classes_instructions_by_opcode():
+    cls = _profile_kernel().opcode_class
+    assert cls("vmulsd", "0x10(%rsp),%xmm1,%xmm2") == "stack load"
+    assert cls("vmovsd", "%xmm0,0x158(%rsp)") == "stack store"
+    assert cls("mov", "0xab0(%rsp),%r8") == "stack load"
+    assert cls("vdivsd", "%xmm1,%xmm13,%xmm0") == "floating point"
+    assert cls("mov", "(%r8,%rdi,8),%rdi") == "other move"
+    assert cls("jle", "0x2475ed74") == "jump"
+    assert cls("cmp", "$0x5,%r8") == "compare"
+    assert cls("imul", "%r12,%rdi") == "other integer"
+
+
+def test_profile_kernel_names_the_step_of_the_path_loop():
+    """An instruction counts for the function called on trace's line of its
+    inline chain (innermost first)."""
+    pk = _profile_kernel()
+    def line_in(path, function):
+        lines = path.read_text().splitlines()
+        return next(i for i, line in enumerate(lines, 1) if f"def {function}(" in line) + 4
+    bvh = REPO / "rtweekend" / "path" / "bvh.py"
+    path = REPO / "rtweekend" / "path" / "integrators" / "path.py"
+    chain = [f"{bvh}:{line_in(bvh, 'nearest_in_leaf')}", f"{path}:{line_in(path, 'trace')}",
+             f"{path}:{line_in(path, 'camera_sample')}"]
+    assert pk._step(chain) == "nearest_in_leaf"
+    assert pk._step(chain[1:]) == "trace (its own lines)"
+    assert pk._step(chain[2:]) == "outside trace"
+
+
+def test_profile_kernel_count_without_valgrind_says_so_in_one_line(tmp_path):
+    env = dict(os.environ, PATH=str(tmp_path))
+    r = subprocess.run([sys.executable, str(REPO / "benchmarks" / "profile_kernel.py"),
+                        "--count", "--out", str(tmp_path)], capture_output=True, text=True,
+                       timeout=120, env=env)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip().splitlines() == [
+        "profile_kernel: --count needs valgrind, callgrind_control, addr2line, nm, objdump; "
+        "not run"]
+
+
 # -- the Mitsuba 3 scripts (the peer and the references' makers) -------------------
 
 def _mitsuba(script, *args, cwd=None):
@@ -403,14 +465,18 @@ def test_meshes_benchmark_quick(tmp_path):
 
 def test_profile_kernel_keeps_the_code_numba_debug_mode_changes(tmp_path):
     """Debug records without the rest of Numba's debug mode: a helper is still
-    inlined into its caller (the profiled code is the one that runs).  In a
-    process of its own: the change is to Numba, for the whole process."""
-    code = """
+    inlined into its caller, and a step's array index is not checked against
+    the bounds (the profiled code is the one that runs).  In a process of its
+    own: the change is to Numba, for the whole process."""
+    probe = tmp_path / "probe.py"
+    probe.write_text("""
 import sys, numba
+import numpy as np
 sys.path.insert(0, sys.argv[1])
 import profile_kernel
 if sys.argv[2] == "keep":
     profile_kernel.keeping_the_code()
+from rtweekend.kernel.jit import jit_step
 @numba.njit
 def half(x):
     return 0.5 * x
@@ -418,15 +484,24 @@ def half(x):
 def quarter(x):
     return half(half(x))
 assert quarter(8.0) == 2.0
+@jit_step
+def at(a, i):
+    return a[i]
+try:
+    at(np.zeros(4)[:2], 2)          # past the view's end, inside the buffer
+    checked = 0
+except IndexError:
+    checked = 1
 ir = next(iter(quarter.inspect_llvm().values()))
-print(sum("call" in line and "4half" in line for line in ir.splitlines()))
-"""
-    calls = {}
+print(checked, sum("call" in line and "4half" in line for line in ir.splitlines()))
+""")
+    found = {}
     for mode in ("stock", "keep"):
         env = dict(os.environ, NUMBA_DEBUGINFO="1", NUMBA_CACHE_DIR=str(tmp_path / mode))
-        r = subprocess.run([sys.executable, "-c", code, str(REPO / "benchmarks"), mode],
+        r = subprocess.run([sys.executable, str(probe), str(REPO / "benchmarks"), mode],
                            capture_output=True, text=True, timeout=300, env=env)
         assert r.returncode == 0, r.stderr
-        calls[mode] = int(r.stdout.split()[-1])
-    assert calls["stock"] > 0       # Numba's debug mode: the helper stays a call
-    assert calls["keep"] == 0
+        found[mode] = [int(v) for v in r.stdout.split()[-2:]]
+    assert found["stock"][0] == 1   # Numba's debug mode: indices checked
+    assert found["stock"][1] > 0    # and the helper stays a call
+    assert found["keep"] == [0, 0]
