@@ -71,8 +71,8 @@ def plane_hit(obj_f, k, o, d, t_max, a, b, n):
     answer chosen at the end (`&`, not `and`): whether a ray meets a wall
     within its bounds is a coin toss to the processor's branch predictor.
     Measured on cornell_glass (benchmarks/results/measurements.md): 6% more
-    samples a second for `mixture`; with the sign of t tested the same way
-    too, 2% and `nee` 1.5% fewer.  The tests are those of the books' early
+    samples a second for `mixture`; with t's sign tested so too, `mixture`
+    gained 2% and `nee` lost 1.5%.  The tests are those of the books' early
     returns (a NaN coordinate passes its bounds, as it did there)."""
     t = (obj_f[k, K] - o[n]) / d[n]
     if not 0.0 < t:
