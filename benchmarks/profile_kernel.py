@@ -391,33 +391,45 @@ def count_side(side, args):
     with tempfile.TemporaryDirectory() as tmp:
         signals = Path(tmp)
         env["NUMBA_CACHE_DIR"] = str(signals / "cache")
-        child = subprocess.Popen(
-            ["valgrind", "--tool=callgrind", "--instr-atstart=no", "--dump-instr=yes",
-             "--smc-check=all-non-file", f"--callgrind-out-file={signals / 'callgrind.out'}",
-             sys.executable, __file__, "--child", side, "--count", "--scene", args.scene,
-             "--sampling", args.sampling, "--passes", str(args.passes), "--size",
-             str(args.size), "--signals", str(signals)],
-            env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        # The child's output to files: a pipe nobody reads while it runs would
+        # fill with valgrind's and Numba's messages and stop it.
+        out_file, err_file = signals / "stdout.txt", signals / "stderr.txt"
+        with out_file.open("w") as out, err_file.open("w") as err:
+            child = subprocess.Popen(
+                ["valgrind", "--tool=callgrind", "--instr-atstart=no", "--dump-instr=yes",
+                 "--smc-check=all-non-file",
+                 f"--callgrind-out-file={signals / 'callgrind.out'}",
+                 sys.executable, __file__, "--child", side, "--count", "--scene", args.scene,
+                 "--sampling", args.sampling, "--passes", str(args.passes), "--size",
+                 str(args.size), "--signals", str(signals)],
+                env=env, stdout=out, stderr=err)
+
+        def failed():
+            return SystemExit(f"profile_kernel: the {side} process failed:\n"
+                              f"{err_file.read_text()[-2000:]}")
+
+        def when(signal, *command):
+            """Once the child touched `signal`, callgrind_control `command` on it."""
+            while not (signals / signal).exists():
+                if child.poll() is not None:
+                    raise failed()
+                time.sleep(0.1)
+            subprocess.run(["callgrind_control", *command, str(child.pid)],
+                           capture_output=True, check=True)
+
         try:
-            for name, command in (("ready", ["-i", "on"]), ("done", ["-i", "off"]),
-                                  ("done", ["-d"])):
-                while not (signals / name).exists():
-                    if child.poll() is not None:
-                        raise SystemExit(f"profile_kernel: the {side} process failed:\n"
-                                         f"{child.stderr.read()[-2000:]}")
-                    time.sleep(0.1)
-                subprocess.run(["callgrind_control", *command, str(child.pid)],
-                               capture_output=True, check=True)
-                if name == "ready" and command == ["-i", "on"]:
-                    (signals / "go").touch()
+            when("ready", "-i", "on")           # compiled and warmed up: count
+            (signals / "go").touch()
+            when("done", "-i", "off")           # its passes rendered
+            when("done", "-d")                  # the counts to a file it reads
             (signals / "bye").touch()
-            out, err = child.communicate()
+            child.wait()
         finally:
             if child.poll() is None:
                 child.kill()
         if child.returncode:
-            raise SystemExit(f"profile_kernel: the {side} process failed:\n{err[-2000:]}")
-    return json.loads(out.strip().splitlines()[-1])
+            raise failed()
+        return json.loads(out_file.read_text().strip().splitlines()[-1])
 
 
 def count(args):
