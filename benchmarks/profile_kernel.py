@@ -66,20 +66,21 @@ MIN_SYMBOL_SHARE = 0.005     # symbols below this share are not looked into
 STRING_SOURCE = {}
 
 
-def workload(side, scene, sampling):
-    """A function rendering one pass of the side's kernel (compiled by then)."""
+def workload(side, scene, sampling, size=SIZE):
+    """A function rendering one pass (size x size x SPP) of the side's kernel
+    (compiled by then)."""
     if side == "rtweekend":
         import rtweekend as rt
-        r = rt.Renderer(rt.load_scene(scene), seed=1, sampling=sampling, width=SIZE,
-                        height=SIZE)
+        r = rt.Renderer(rt.load_scene(scene), seed=1, sampling=sampling, width=size,
+                        height=size)
         r.compile()
         r.add_samples(1)
         return lambda: r.add_samples(SPP)
     probe = yardstick.load("rtweekend_flags_f64")
     STRING_SOURCE["<string>"] = probe.__file__
     passes = iter(range(1, 1 << 30))
-    probe.render(SIZE, SIZE, 1)
-    return lambda: probe.render(SIZE, SIZE, SPP, pass0=SPP * next(passes))
+    probe.render(size, size, 1)
+    return lambda: probe.render(size, size, SPP, pass0=SPP * next(passes))
 
 
 def jit_symbols():
@@ -329,10 +330,8 @@ def jit_disassembly(start, end, folder):
 def count_here(side, scene, sampling, passes, size, signals):
     """The child's work under callgrind: compile, then passes with counting on
     (the parent switches it), then attribute the kernel's instructions."""
-    global SIZE
-    SIZE = size
     keeping_the_code()
-    render = workload(side, scene, sampling)
+    render = workload(side, scene, sampling, size)
     render()
     (signals / "ready").touch()
     _wait_for(signals / "go")
