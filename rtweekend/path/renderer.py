@@ -23,7 +23,7 @@ from ..kernel.jit import collector_paused
 from .. import checks, memory
 from ..denoise import denoise as denoise_image
 from ..errors import FieldError, SceneError, SceneWarning
-from ..kernel.rows import interleaved_rows, on_threads
+from ..kernel.rows import interleaved_rows, row_queue, share_rows
 from ..options import RenderOptions, thread_count
 from ..result import RenderResult, RenderStats
 from ..scene.scene import Scene
@@ -99,8 +99,8 @@ def render_samples(frame, film, s0, s1, rows=None):
     threads = numba.get_num_threads() if s1 > s0 else 1
     for a, b in _block_parts(s0, s1) if film.splat.size else [(s0, s1)]:
         features = estimator.NEEDS.block(frame, frame.features, a, b, threads)
-        on_threads(lambda part: estimator.render_pass(film, frame.scene, frame.params, part, a,
-                                                      b, *features), rows, threads)
+        share_rows(lambda queue: estimator.render_pass(film, frame.scene, frame.params, queue,
+                                                       a, b, *features), rows, threads)
         if film.splat.size and not part_of_the_rows and b > a and b % BLOCK_SPP == 0:
             films.fold_splats(film)
 
@@ -126,8 +126,8 @@ def kernel_calls(frame, film, denoise=False):
     samples: the estimator's (and those it needs beside it, such as bdpt's
     photon tracer), the denoiser's passes."""
     estimator = kernel(frame)
-    calls = [(estimator.render_pass, (film, frame.scene, frame.params, frame.rows[:0],
-                                      0, 0, *frame.features))]
+    calls = [(estimator.render_pass, (film, frame.scene, frame.params,
+                                      row_queue(frame.rows[:0]), 0, 0, *frame.features))]
     calls.extend(estimator.NEEDS.kernels(frame))
     if denoise:
         calls.extend(seen_light.kernel_calls(frame))

@@ -345,17 +345,15 @@ def bdpt_sample(film, scene, params, y, x, s, smp, state):
 
 
 @jit_kernel
-def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion, caustics,
+def render_pass(film, scene, params, queue, s0, s1, events, textures, media, motion, caustics,
                 manifold):
-    """The samples s0..s1-1 of the pixels of `rows` (one thread's share of a
-    pass: kernel/rows.py), with one pair of subpath arrays for all of them."""
+    """The samples s0..s1-1 of the pixels of the rows this thread claims from
+    the queue (kernel/rows.py), with one pair of subpath arrays for all of them."""
     n = params.max_depth + 2
     cf, ci = np.zeros((n, NF)), np.zeros((n, NI), dtype=np.int64)
     lf, li = np.zeros((n, NF)), np.zeros((n, NI), dtype=np.int64)
     film_r, scene_r, params_r, textures_r = (by_ref(film), by_ref(scene), by_ref(params),
                                              by_ref(textures))
     caustics_r = by_ref(caustics)
-    for k in range(rows.shape[0]):
-        pixels.render_row(bdpt_sample, rows[k], film_r, scene_r, params_r, s0, s1,
-                          (textures_r, media, motion, (caustics_r, manifold), (cf, ci),
-                           (lf, li)))
+    pixels.render_rows(bdpt_sample, queue, film_r, scene_r, params_r, s0, s1,
+                       (textures_r, media, motion, (caustics_r, manifold), (cf, ci), (lf, li)))

@@ -202,13 +202,12 @@ def light_sample(film, scene, params, y, x, s, smp, state):
 
 
 @jit_kernel
-def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion,
+def render_pass(film, scene, params, queue, s0, s1, events, textures, media, motion,
                 caustics, manifold):
-    """The light paths of samples s0..s1-1 of the pixels of `rows` (one
-    thread's share of a pass: kernel/rows.py); their splats may land anywhere,
-    atomically (film.py)."""
+    """The light paths of samples s0..s1-1 of the pixels of the rows this
+    thread claims from the queue (kernel/rows.py); their splats may land
+    anywhere, atomically (film.py)."""
     film_r, scene_r, params_r, textures_r = (by_ref(film), by_ref(scene), by_ref(params),
                                              by_ref(textures))
-    for k in range(rows.shape[0]):
-        pixels.render_row(light_sample, rows[k], film_r, scene_r, params_r, s0, s1,
-                          (textures_r, media, motion))
+    pixels.render_rows(light_sample, queue, film_r, scene_r, params_r, s0, s1,
+                       (textures_r, media, motion))

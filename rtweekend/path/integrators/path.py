@@ -328,14 +328,14 @@ def camera_sample(film, scene, params, y, x, s, smp, state):
 
 
 @jit_kernel
-def render_pass(film, scene, params, rows, s0, s1, events, textures, media, motion,
+def render_pass(film, scene, params, queue, s0, s1, events, textures, media, motion,
                 caustics, manifold):
-    """Add samples s0..s1-1 of every pixel of `rows` to the film: one thread's
-    share of a pass (kernel/rows.py).  Each row is written by one thread only,
-    and every sum is in sample order, so the film is the same whatever the
-    thread count.  None compiles a kernel without a feature (above)."""
+    """Add samples s0..s1-1 of every pixel of the rows this thread claims from
+    the queue (kernel/rows.py) to the film.  Each row is written by the one
+    thread that claimed it, and every sum is in sample order, so the film is
+    the same whatever the thread count.  None compiles a kernel without a
+    feature (above)."""
     film_r, scene_r, params_r, textures_r = (by_ref(film), by_ref(scene), by_ref(params),
                                              by_ref(textures))
-    for k in range(rows.shape[0]):
-        pixels.render_row(camera_sample, rows[k], film_r, scene_r, params_r, s0, s1,
-                          (events, textures_r, media, motion, manifold))
+    pixels.render_rows(camera_sample, queue, film_r, scene_r, params_r, s0, s1,
+                       (events, textures_r, media, motion, manifold))

@@ -22,6 +22,7 @@ before anything else.
 """
 from ...kernel import sampler
 from ...kernel.jit import jit_step
+from ...kernel.rows import claim
 from .. import film as films
 from ..film import SEGMENTS
 
@@ -33,6 +34,16 @@ def shutter(motion, smp):
     if motion is not None:
         return sampler.uniform(smp)
     return None, smp
+
+
+@jit_step
+def render_rows(sample, queue, film, scene, params, s0, s1, state):
+    """Samples s0..s1-1 of every row this thread claims from the queue
+    (kernel/rows.py), row by row, by `sample`, into the film."""
+    y = claim(queue)
+    while y >= 0:
+        render_row(sample, y, film, scene, params, s0, s1, state)
+        y = claim(queue)
 
 
 @jit_step
