@@ -7,7 +7,7 @@ is rendered whole by the thread that claimed it, so the image is the same
 whatever the number of threads or which thread took which row.  Claimed one
 at a time rather than cut into a part per thread beforehand: a part's time
 moves from pass to pass on a shared machine (two parts of equal work ended
-10% apart on the 2-core VM, the pass waiting for the later), and rows differ
+9% of a pass apart on the 2-core VM, the pass waiting for the later), and rows differ
 in cost; a free thread takes more rows instead of waiting
 (benchmarks/results/measurements.md).  Threads of our own rather than a
 Numba `prange`: the parallel compile of a prange kernel cost a second and a
