@@ -315,14 +315,19 @@ def test_light_pick_benchmark_quick(tmp_path):
 
 
 
-def test_profile_kernel_names_the_function_around_a_line(tmp_path):
-    """A sampled address's source line goes to the function whose body holds it
-    (the innermost one), a line-less frame to its file alone."""
+def _profile_kernel():
     sys.path.insert(0, str(REPO / "benchmarks"))
     try:
         import profile_kernel
     finally:
         sys.path.remove(str(REPO / "benchmarks"))
+    return profile_kernel
+
+
+def test_profile_kernel_names_the_function_around_a_line(tmp_path):
+    """A sampled address's source line goes to the function whose body holds it
+    (the innermost one), a line-less frame to its file alone."""
+    profile_kernel = _profile_kernel()
     bvh = REPO / "rtweekend" / "path" / "bvh.py"
     lines = bvh.read_text().splitlines()
     body = next(i for i, line in enumerate(lines, 1) if "def nearest_in_leaf(" in line) + 4
@@ -342,16 +347,6 @@ def test_profile_kernel_without_perf_says_so_in_one_line(tmp_path):
     assert r.returncode == 0, r.stderr
     assert r.stdout.strip().splitlines() == [
         "profile_kernel: needs perf, addr2line, nm (Linux perf, binutils); not run"]
-
-
-
-def _profile_kernel():
-    sys.path.insert(0, str(REPO / "benchmarks"))
-    try:
-        import profile_kernel
-    finally:
-        sys.path.remove(str(REPO / "benchmarks"))
-    return profile_kernel
 
 
 def test_profile_kernel_reads_callgrind_instruction_costs(tmp_path):

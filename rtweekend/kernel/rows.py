@@ -6,9 +6,9 @@ claims the queue's next row whenever it is free, until none is left.  A row
 is rendered whole by the thread that claimed it, so the image is the same
 whatever the number of threads or which thread took which row.  Claimed one
 at a time rather than cut into a part per thread beforehand: a part's time
-moves from pass to pass on a shared machine (two parts of equal work ended
-9% of a pass apart on the 2-core VM, the pass waiting for the later), and rows differ
-in cost; a free thread takes more rows instead of waiting
+moves from pass to pass on a shared machine (two parts of equal work ended 9%
+of a pass apart on the 2-core VM, the pass waiting for the later), and rows
+differ in cost; a free thread takes more rows instead of waiting
 (benchmarks/results/measurements.md).  Threads of our own rather than a
 Numba `prange`: the parallel compile of a prange kernel cost a second and a
 half of every cold compile, and a thread here runs the very code a prange
@@ -73,29 +73,28 @@ def _pool():
     return _POOL
 
 
-def share_rows(work, rows, threads):
-    """work(queue) on `threads` threads at once (no more than there are rows),
-    this thread one of them, all claiming the rows of one queue; returns when
-    all are done (an error in any is raised)."""
-    queue = row_queue(rows)
-    others = [_pool().submit(work, queue) for _ in range(min(threads, len(rows)) - 1)]
+def _at_once(work, args):
+    """work(a) for each a of args on threads at once, this thread taking the
+    first (the pool the others); returns when all are done (an error in any is
+    raised)."""
+    others = [_pool().submit(work, a) for a in args[1:]]
     try:
-        work(queue)
+        work(args[0])
     finally:
         for future in others:
             future.result()
+
+
+def share_rows(work, rows, threads):
+    """work(queue) on `threads` threads at once (no more than there are rows,
+    one at least), this thread one of them, all claiming the rows of one
+    queue."""
+    queue = row_queue(rows)
+    _at_once(work, [queue] * max(1, min(threads, len(rows))))
 
 
 def on_threads(work, rows, threads):
     """work(part) for `threads` contiguous parts of `rows` at once, this thread
-    taking the first; returns when all are done (an error in any is raised)."""
+    taking the first."""
     parts = [part for part in np.array_split(rows, max(1, threads)) if len(part)]
-    if len(parts) <= 1:
-        work(rows)
-        return
-    others = [_pool().submit(work, part) for part in parts[1:]]
-    try:
-        work(parts[0])
-    finally:
-        for future in others:
-            future.result()
+    _at_once(work, parts if len(parts) > 1 else [rows])
