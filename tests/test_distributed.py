@@ -44,7 +44,8 @@ def client(cornell_box):
 
 
 def assert_same(a, b):
-    assert np.array_equal(a.image, b.image)
+    # A render that stopped early says why (a lost cluster, Ctrl-C).
+    assert np.array_equal(a.image, b.image), f"stopped by: {a.stats.stopped_by}"
     assert np.array_equal(a.stderr, b.stderr)
     for name in ("width", "height", "spp", "samples", "rays", "nan_dropped", "fireflies"):
         assert getattr(a.stats, name) == getattr(b.stats, name), name
