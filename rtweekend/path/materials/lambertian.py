@@ -31,13 +31,10 @@ def cosine_at(n, u1, u2):
     """The direction of the cosine lobe about n for the point (u1, u2) of the
     unit square (Malley's method: a point of the disk lifted to the hemisphere)."""
     phi = TWO_PI * u1
-    # libm's cos and sin first: values made before that call and used after it
-    # (the basis) would wait for it on the stack.
-    c, s_phi = math.cos(phi), math.sin(phi)
     s = math.sqrt(u2)
     z = math.sqrt(max(0.0, 1.0 - u2))
     u, v = onb(n)
-    return local(u, v, n, (c * s, s_phi * s, z))
+    return local(u, v, n, (math.cos(phi) * s, math.sin(phi) * s, z))
 
 
 @jit_step

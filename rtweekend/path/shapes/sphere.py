@@ -154,14 +154,13 @@ def sample_toward(obj_f, k, p, from_self, u1, u2, time):
     if dist2 <= r2 and not from_self:
         # Inside the sphere every direction hits it: uniform sphere.
         return rng.sphere_point(u1, u2)
-    phi = rng.TWO_PI * u1
-    c_phi, s_phi = math.cos(phi), math.sin(phi)     # before the basis: lambertian.cosine_at
     # On it: the cone is the inward hemisphere (cos theta_max = 0).
     z = 1.0 - u2 * (1.0 if from_self else one_minus_cos_theta_max(r2, dist2))
+    phi = rng.TWO_PI * u1
     s = math.sqrt(max(0.0, 1.0 - z * z))
     w = scale(w, 1.0 / math.sqrt(dist2))
     u, v = onb(w)
-    return local(u, v, w, (c_phi * s, s_phi * s, z))
+    return local(u, v, w, (math.cos(phi) * s, math.sin(phi) * s, z))
 
 
 @jit_step
