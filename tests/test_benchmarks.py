@@ -314,7 +314,6 @@ def test_light_pick_benchmark_quick(tmp_path):
     assert [line.split()[0] for line in lines] == ["simple_light", "bright_and_dim"]
 
 
-
 def _profile_kernel():
     sys.path.insert(0, str(REPO / "benchmarks"))
     try:

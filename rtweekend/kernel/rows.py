@@ -97,4 +97,4 @@ def on_threads(work, rows, threads):
     """work(part) for `threads` contiguous parts of `rows` at once, this thread
     taking the first."""
     parts = [part for part in np.array_split(rows, max(1, threads)) if len(part)]
-    _at_once(work, parts if len(parts) > 1 else [rows])
+    _at_once(work, parts or [rows])           # no rows: one call, with none

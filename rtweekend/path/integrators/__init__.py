@@ -10,8 +10,8 @@ film, and NEEDS (needs.py) says what else it needs of the driver, which names
 no estimator: whether its film needs the splat arrays (film.py: path.py adds
 each sample to its own pixel; light.py and bdpt.py carry light to whatever
 pixel it reaches), its checks, lights list, features, memory, the kernels
-beside it and what it prepares per block of samples (bdpt's photon maps).  The Frame names
-the estimator (path/renderer.py) and carries the feature record
+beside it and what it prepares per block of samples (bdpt's photon maps).  The
+Frame names the estimator (path/renderer.py) and carries the feature record
 (layout.Features), unpacked into the kernel's arguments in one place,
 renderer.render_samples, because Numba prunes `is None` tests only on
 arguments.
