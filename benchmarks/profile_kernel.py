@@ -33,6 +33,14 @@ named on the `trace` line of its chain).  Per camera sample, exact and
 repeatable where timings on a shared machine are not.  Needs valgrind
 (with callgrind_control) and binutils (objdump besides); writes
 benchmark-results/profile_kernel_count.json.
+
+    python benchmarks/profile_kernel.py --count --branches
+
+counts the conditional branches callgrind's branch simulator
+(--branch-sim=yes) finds mispredicted instead of instructions, each side's
+by the line its branch came from (rtweekend's by step too): a simulated
+predictor, not the processor's, but the same for both sides.  Writes
+benchmark-results/profile_kernel_branches.json.
 """
 import argparse
 import ast
@@ -255,12 +263,21 @@ def _wait_for(path):
         time.sleep(0.01)
 
 
-def callgrind_costs(path):
-    """{address: instructions} of a callgrind dump made with --dump-instr=yes
-    (its compressed positions: absolute, +/- relative, * the same; a call's
-    cost line, which counts the callee's inclusive cost, left out)."""
+def callgrind_costs(path, event="Ir"):
+    """{address: count of `event`} of a callgrind dump made with
+    --dump-instr=yes (its compressed positions: absolute, +/- relative, * the
+    same; a call's cost line, which counts the callee's inclusive cost, left
+    out).  Ir: instructions executed; Bcm: conditional branches mispredicted
+    (--branch-sim=yes; a line leaves out its trailing zero counts)."""
     costs, last, after_call = collections.Counter(), 0, False
+    positions, column = 1, 0
     for line in Path(path).read_text().splitlines():
+        if line.startswith("positions:"):
+            positions = len(line.split()) - 1
+            continue
+        if line.startswith("events:"):
+            column = line.split()[1:].index(event)
+            continue
         if line.startswith("calls="):
             after_call = True
             continue
@@ -274,8 +291,9 @@ def callgrind_costs(path):
         if after_call:
             after_call = False
             continue
-        if fields[-1].isdigit():
-            costs[position] += int(fields[-1])
+        counts = fields[positions:]
+        if column < len(counts) and counts[column].isdigit():
+            costs[position] += int(counts[column])
     return costs
 
 
@@ -327,7 +345,7 @@ def jit_disassembly(start, end, folder):
     return found
 
 
-def count_here(side, scene, sampling, passes, size, signals):
+def count_here(side, scene, sampling, passes, size, signals, event="Ir"):
     """The child's work under callgrind: compile, then passes with counting on
     (the parent switches it), then attribute the kernel's instructions."""
     keeping_the_code()
@@ -340,7 +358,7 @@ def count_here(side, scene, sampling, passes, size, signals):
     (signals / "done").touch()
     _wait_for(signals / "bye")
     costs = callgrind_costs(max(signals.glob("callgrind.out.*"),
-                                key=lambda f: int(f.suffix[1:])))
+                                key=lambda f: int(f.suffix[1:])), event)
     symbols = jit_symbols()
     starts = [a for a, _ in symbols]
     by_symbol = collections.defaultdict(dict)
@@ -350,7 +368,7 @@ def count_here(side, scene, sampling, passes, size, signals):
             by_symbol[symbols[i][1]][address - starts[i]] = n
     samples = passes * size * size * SPP
     index = {name: i for i, (_, name) in enumerate(symbols)}
-    classes, steps = collections.Counter(), collections.Counter()
+    classes, steps, lines = collections.Counter(), collections.Counter(), collections.Counter()
     for symbol, offsets in by_symbol.items():
         found = object_of(symbol, signals)
         if found is None:
@@ -360,16 +378,20 @@ def count_here(side, scene, sampling, passes, size, signals):
         # Addresses past the function's end are another library's (libm, Python).
         offsets = {o: n for o, n in offsets.items() if o < size}
         code = jit_disassembly(start, start + size, signals)
-        chains = inline_chains(path, [base + o for o in offsets]) if side == "rtweekend" else {}
+        chains = inline_chains(path, [base + o for o in offsets])
         for offset, n in offsets.items():
             opcode, operands = code.get(start + offset, ("?", ""))
             classes[opcode_class(opcode, operands)] += n
             classes["all"] += n
+            chain = chains.get(base + offset) or ["?"]
+            lines[function_at(chain[0]) + ":" + chain[0].rpartition(":")[2]] += n
             if side == "rtweekend":
-                steps[_step(chains.get(base + offset) or ["?"])] += n
+                steps[_step(chain)] += n
     per_sample = {k: v / samples for k, v in classes.most_common()}
     by_step = {k: v / samples for k, v in steps.most_common()}
-    print(json.dumps(dict(samples=samples, per_sample=per_sample, by_step=by_step)))
+    by_line = {k: v / samples for k, v in lines.most_common(40)}
+    print(json.dumps(dict(samples=samples, per_sample=per_sample, by_step=by_step,
+                          by_line=by_line)))
 
 
 def _step(chain):
@@ -396,11 +418,12 @@ def count_side(side, args):
         with out_file.open("w") as out, err_file.open("w") as err:
             child = subprocess.Popen(
                 ["valgrind", "--tool=callgrind", "--instr-atstart=no", "--dump-instr=yes",
-                 "--smc-check=all-non-file",
+                 "--smc-check=all-non-file", f"--branch-sim={'yes' if args.branches else 'no'}",
                  f"--callgrind-out-file={signals / 'callgrind.out'}",
                  sys.executable, __file__, "--child", side, "--count", "--scene", args.scene,
                  "--sampling", args.sampling, "--passes", str(args.passes), "--size",
-                 str(args.size), "--signals", str(signals)],
+                 str(args.size), "--signals", str(signals)]
+                + (["--branches"] if args.branches else []),
                 env=env, stdout=out, stderr=err)
 
         def failed():
@@ -442,17 +465,28 @@ def count(args):
             sides.append("yardstick")
     results = {side: count_side(side, args) for side in sides}
     classes = list(dict.fromkeys(k for r in results.values() for k in r["per_sample"]))
-    print(f"kernel instructions per camera sample ({args.scene}, {args.sampling}, "
+    digits = 1 if args.branches else 0
+    if args.branches:
+        classes = ["all"]          # every one a conditional jump
+    what = ("mispredicted conditional branches (callgrind's simulated predictor)"
+            if args.branches else "instructions")
+    print(f"kernel {what} per camera sample ({args.scene}, {args.sampling}, "
           f"{args.passes} passes of {args.size}x{args.size}x{SPP}, one thread):")
     print(f"  {'':16s}" + "".join(f"{side:>12s}" for side in results))
     for k in classes:
-        print(f"  {k:16s}" + "".join(f"{r['per_sample'].get(k, 0.0):12.0f}"
+        print(f"  {k:16s}" + "".join(f"{r['per_sample'].get(k, 0.0):12.{digits}f}"
                                       for r in results.values()))
     if "rtweekend" in results:
         print("rtweekend by step of its path loop:")
         for k, v in results["rtweekend"]["by_step"].items():
-            print(f"  {v:8.0f}  {k}")
-    path = save_json("profile_kernel_count.json",
+            print(f"  {v:8.{digits}f}  {k}")
+    if args.branches:
+        for side, r in results.items():
+            print(f"{side}, its lines with the most:")
+            for k, v in list(r["by_line"].items())[:15]:
+                print(f"  {v:8.1f}  {k}")
+    name = "profile_kernel_branches.json" if args.branches else "profile_kernel_count.json"
+    path = save_json(name,
                      dict(machine=machine(), scene=args.scene, sampling=args.sampling,
                           size=args.size, passes=args.passes, sides=results), args.out)
     print(f"wrote {path}")
@@ -481,12 +515,14 @@ def main():
                    help="count instructions under callgrind instead of sampling time")
     p.add_argument("--passes", type=int, default=8, help="--count: passes counted")
     p.add_argument("--size", type=int, default=64, help="--count: the image's side")
+    p.add_argument("--branches", action="store_true",
+                   help="--count: mispredicted conditional branches, not instructions")
     p.add_argument("--child", help=argparse.SUPPRESS)
     p.add_argument("--signals", help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.child and args.count:
         count_here(args.child, args.scene, args.sampling, args.passes, args.size,
-                   Path(args.signals))
+                   Path(args.signals), "Bcm" if args.branches else "Ir")
         return
     if args.child:
         profile_here(args.child, args.scene, args.sampling, args.seconds)

@@ -361,6 +361,21 @@ def test_profile_kernel_reads_callgrind_instruction_costs(tmp_path):
                      0x7f000000100b: 1}
 
 
+def test_profile_kernel_reads_one_event_of_a_branch_simulation(tmp_path):
+    """With --branch-sim=yes each line has five counts (Ir Bc Bcm Bi Bim), its
+    trailing zeros left out; --branches reads the mispredicted ones (Bcm)."""
+    dump = tmp_path / "callgrind.out.1"
+    dump.write_text("positions: instr line\nevents: Ir Bc Bcm Bi Bim\nfn=(1) kernel\n"
+                    "0x7f0000001000 12 3\n+4 * 2 1 1\n* +1 5 2\n+2 * 1 1 0 1 1\n"
+                    "calls=1 0x7f0000002000 40\n+6 * 1000 90 9\n+3 * 1 1 1\n")
+    pk = _profile_kernel()
+    assert pk.callgrind_costs(dump, "Bcm") == {0x7f0000001004: 1, 0x7f0000001006: 0,
+                                               0x7f000000100f: 1}
+    assert pk.callgrind_costs(dump, "Bim") == {0x7f0000001006: 1}
+    assert pk.callgrind_costs(dump) == {0x7f0000001000: 3, 0x7f0000001004: 7,
+                                        0x7f0000001006: 1, 0x7f000000100f: 1}
+
+
 def test_profile_kernel_classes_instructions_by_opcode():
     cls = _profile_kernel().opcode_class
     assert cls("vmulsd", "0x10(%rsp),%xmm1,%xmm2") == "stack load"
