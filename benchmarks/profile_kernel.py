@@ -347,7 +347,8 @@ def jit_disassembly(start, end, folder):
 
 def count_here(side, scene, sampling, passes, size, signals, event="Ir"):
     """The child's work under callgrind: compile, then passes with counting on
-    (the parent switches it), then attribute the kernel's instructions."""
+    (the parent switches it), then attribute the kernel's counts of `event`
+    (Ir: instructions; Bcm: mispredicted conditional branches)."""
     keeping_the_code()
     render = workload(side, scene, sampling, size)
     render()
@@ -464,10 +465,10 @@ def count(args):
         if yardstick.available():
             sides.append("yardstick")
     results = {side: count_side(side, args) for side in sides}
-    classes = list(dict.fromkeys(k for r in results.values() for k in r["per_sample"]))
+    # Mispredicted branches are all conditional jumps: no classes but "all".
+    classes = (["all"] if args.branches else
+               list(dict.fromkeys(k for r in results.values() for k in r["per_sample"])))
     digits = 1 if args.branches else 0
-    if args.branches:
-        classes = ["all"]          # every one a conditional jump
     what = ("mispredicted conditional branches (callgrind's simulated predictor)"
             if args.branches else "instructions")
     print(f"kernel {what} per camera sample ({args.scene}, {args.sampling}, "
